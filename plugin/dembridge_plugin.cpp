@@ -1,0 +1,42 @@
+// lammpsplugin_init: the only exported symbol. Checks the host version, then registers every
+// style collected in the style registry.
+#include "plugin_abi.h"
+#include "style_registry.h"
+#include "version_check.h"
+
+#include "lammps.h"
+#include "utils.h"
+
+#include <cstdlib>
+
+namespace dembridge {
+std::vector<StyleEntry> &style_registry()
+{
+  static std::vector<StyleEntry> entries;
+  return entries;
+}
+}  // namespace dembridge
+
+
+extern "C" __attribute__((visibility("default"))) void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
+{
+  auto *host = static_cast<LAMMPS_NS::LAMMPS *>(lmp);
+  const auto verdict = dembridge::check_host_version(DEMBRIDGE_LAMMPS_NUM_VER, host->num_ver, host->version,
+                                                     std::getenv("DEMBRIDGE_ALLOW_VERSION_MISMATCH"));
+  if (!verdict.message.empty()) LAMMPS_NS::utils::logmesg(host, verdict.message + "\n");
+  if (!verdict.accept) return;
+
+  auto reg = reinterpret_cast<dembridge_regfunc>(regfunc);
+  for (const auto &e : dembridge::style_registry()) {
+    dembridge_plugin_t p{};
+    p.version = host->version;  // accepted: avoid the loader's "compiled for" notice
+    p.style = e.kind;
+    p.name = e.name;
+    p.info = e.info;
+    p.author = "dembridge developers";
+    if (e.v1) p.creator.v1 = reinterpret_cast<dembridge_factory1 *>(e.v1);
+    else p.creator.v2 = reinterpret_cast<dembridge_factory2 *>(e.v2);
+    p.handle = handle;
+    reg(&p, lmp);
+  }
+}

@@ -1,0 +1,33 @@
+// Every style of the plugin registers itself here with one static object in its own .cpp, so
+// adding a style never touches the plugin entry point.
+#pragma once
+
+#include <vector>
+
+namespace dembridge {
+
+using PairFactory = void *(*)(void *lmp);
+using FixFactory = void *(*)(void *lmp, int narg, char **arg);
+
+struct StyleEntry {
+  const char *kind;  // "pair", "fix", "compute", "command"
+  const char *name;
+  const char *info;
+  PairFactory v1 = nullptr;  // pair, command
+  FixFactory v2 = nullptr;   // fix, compute
+};
+
+std::vector<StyleEntry> &style_registry();
+
+struct RegisterStyle {
+  RegisterStyle(const char *kind, const char *name, const char *info, PairFactory f)
+  {
+    style_registry().push_back({kind, name, info, f, nullptr});
+  }
+  RegisterStyle(const char *kind, const char *name, const char *info, FixFactory f)
+  {
+    style_registry().push_back({kind, name, info, nullptr, f});
+  }
+};
+
+}  // namespace dembridge

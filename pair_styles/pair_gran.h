@@ -1,0 +1,46 @@
+// Glue for every dembridge granular pair style: neighbour loop, tallies, checks, restart of the
+// settings. The physics is the ContactLaw (contact/), the coefficients the MaterialTable
+// (materials/), the syntax the ModelDescription (syntax/).
+#pragma once
+
+#include "pair.h"
+
+#include "contact_law.h"
+#include "material_table.h"
+#include "model_syntax.h"
+
+#include <string>
+#include <vector>
+
+namespace dembridge {
+
+class PairGran : public LAMMPS_NS::Pair {
+ public:
+  PairGran(LAMMPS_NS::LAMMPS *lmp, const char *style_name);
+  ~PairGran() override;
+
+  void compute(int eflag, int vflag) override;
+  void settings(int narg, char **arg) override;
+  void coeff(int narg, char **arg) override;
+  void init_style() override;
+  double init_one(int i, int j) override;
+  void write_restart(FILE *fp) override;
+  void read_restart(FILE *fp) override;
+
+ private:
+  std::string style_name_;
+  std::vector<std::string> settings_args_;  // kept for restart
+  gran::ModelDescription model_;
+  gran::ContactLaw law_;
+  gran::MaterialTable table_;
+  std::vector<double> maxrad_dynamic_, maxrad_frozen_;  // per type, for the cutoff
+  int freeze_groupbit_ = 0;
+
+  void allocate();
+  void check_requirements();
+  int max_type_present();
+  void compute_type_radii();
+  void apply_settings(const std::vector<std::string> &args);
+};
+
+}  // namespace dembridge

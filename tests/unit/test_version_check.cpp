@@ -1,0 +1,36 @@
+// The plugin refuses a host LAMMPS of another version unless the expert override is set.
+#include "version_check.h"
+
+#include <gtest/gtest.h>
+
+using dembridge::check_host_version;
+
+TEST(VersionCheck, SameVersionIsAcceptedSilently)
+{
+  const auto v = check_host_version(20250722, 20250722, "22 Jul 2025", nullptr);
+  EXPECT_TRUE(v.accept);
+  EXPECT_TRUE(v.message.empty());
+}
+
+TEST(VersionCheck, OtherVersionIsRefusedWithReason)
+{
+  const auto v = check_host_version(20250722, 20230802, "2 Aug 2023", nullptr);
+  EXPECT_FALSE(v.accept);
+  EXPECT_NE(v.message.find("ERROR"), std::string::npos);
+  EXPECT_NE(v.message.find("20250722"), std::string::npos);
+  EXPECT_NE(v.message.find("2 Aug 2023"), std::string::npos);
+  EXPECT_NE(v.message.find("DEMBRIDGE_ALLOW_VERSION_MISMATCH"), std::string::npos);
+}
+
+TEST(VersionCheck, OverrideAcceptsWithWarning)
+{
+  const auto v = check_host_version(20250722, 20230802, "2 Aug 2023", "1");
+  EXPECT_TRUE(v.accept);
+  EXPECT_NE(v.message.find("WARNING"), std::string::npos);
+}
+
+TEST(VersionCheck, OverrideSetToZeroOrEmptyDoesNotCount)
+{
+  EXPECT_FALSE(check_host_version(20250722, 20230802, "2 Aug 2023", "0").accept);
+  EXPECT_FALSE(check_host_version(20250722, 20230802, "2 Aug 2023", "").accept);
+}

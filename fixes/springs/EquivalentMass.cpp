@@ -1,0 +1,59 @@
+#include "EquivalentMass.h"
+
+#include <Eigen/Dense>
+#include <stdexcept>
+
+namespace dembridge::springs {
+
+namespace {
+
+using Mat3 = Eigen::Matrix3d;
+
+Mat3 skew(const Vec3& a) {
+  Mat3 s;
+  s << 0.0, -a[2], a[1], a[2], 0.0, -a[0], -a[1], a[0], 0.0;
+  return s;
+}
+
+Mat3 point_inverse_mass_matrix(const BodyMass& b, const Vec3& P, EqmArm arm) {
+  const Vec3 point = arm == EqmArm::ParmecQ8 ? P - b.centre : P;  // Q8: the arm is passed where a point is expected
+  const Vec3 A = b.centre - point;
+  const Mat3 Jinv = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(b.inv_inertia.data());
+  const Mat3 S = skew(A);
+  return Mat3::Identity() / b.mass + S.transpose() * Jinv * S;
+}
+
+}  // namespace
+
+BodyMass BodyMass::isotropic(double mass, double inertia, const Vec3& centre) {
+  BodyMass b;
+  b.mass = mass;
+  b.inv_inertia = {1.0 / inertia, 0.0, 0.0, 0.0, 1.0 / inertia, 0.0, 0.0, 0.0, 1.0 / inertia};
+  b.centre = centre;
+  return b;
+}
+
+std::array<double, 9> point_inverse_mass(const BodyMass& body, const Vec3& P, EqmArm arm) {
+  const Mat3 m = point_inverse_mass_matrix(body, P, arm);
+  std::array<double, 9> out;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) out[3 * i + j] = m(i, j);
+  return out;
+}
+
+double equivalent_mass(const BodyMass& body1, const Vec3& P1, const BodyMass* body2, const Vec3& P2, const Vec3& d,
+                       EqmArm arm) {
+  Mat3 Minv = point_inverse_mass_matrix(body1, P1, arm);
+  if (body2) Minv += point_inverse_mass_matrix(*body2, P2, arm);
+  double lambda;
+  if (d[0] != 0.0 || d[1] != 0.0 || d[2] != 0.0) {
+    const Eigen::Vector3d v(d[0], d[1], d[2]);
+    lambda = v.dot(Minv * v);
+  } else {
+    lambda = Eigen::SelfAdjointEigenSolver<Mat3>(Minv, Eigen::EigenvaluesOnly).eigenvalues()(0);
+  }
+  if (!(lambda > 0.0)) throw std::invalid_argument("EQM: the inverse mass matrix is not positive along the direction");
+  return 1.0 / lambda;
+}
+
+}  // namespace dembridge::springs

@@ -1,0 +1,38 @@
+// Per-spring state carried from step to step (spec parmec-springs §4, §6, §14). Plain data so that the
+// LAMMPS glue can migrate it with the owning atom and write it to restart files via pack()/unpack().
+#pragma once
+
+#include "SpringLaw.h"
+#include "Vec3.h"
+
+namespace dembridge::springs {
+
+// State codes, HISTORY 'SS' (spec §4.3); a code >= 0 is the TSERIES id of an UNSPRING unload curve (Q7).
+enum SpringCode : int { kRegular = -3, kManaged = -2, kZeroForce = -1 };
+
+struct SpringState {
+  double stroke = 0.0;             // s = len - stroke0 of the last step
+  double stroke_comp = 0.0;        // sc, accumulated compressive stroke (§4.2)
+  double stroke_tens = 0.0;        // st, accumulated tensile stroke
+  double yield_comp = 0.0;         // yc: ylim[0], later the latest compression backbone force
+  double yield_tens = 0.0;         // yt: ylim[1], later the latest tension backbone force
+  double force_elastic = 0.0;      // SF of the last step (f_prev of the next)
+  double tangent_stiffness = 0.0;  // k_tan (ratio dashpot, kskn friction, CRITICAL)
+  Vec3 friction_disp{};            // delta, tangential spring displacement (kskn > 0)
+  Vec3 direction{};                // z of the last step (CRITICAL of follower/planar springs)
+  double length = 0.0;             // |q - p| of the last step (output LENGTH)
+  double force_total = 0.0;        // F = elastic + dashpot (output F)
+  double friction_force = 0.0;     // |friction| (output FF)
+  bool yielded = false;
+  bool unloading = false;
+  int code = kRegular;
+
+  // Fresh state of a spring with this law (yield limits = ylim; code -1 if inactive).
+  static SpringState initial(const SpringLaw& law, bool inactive = false);
+
+  static constexpr int kPackedSize = 20;  // doubles written by pack()
+  void pack(double* buf) const;
+  void unpack(const double* buf);
+};
+
+}  // namespace dembridge::springs

@@ -1,0 +1,46 @@
+// Piecewise-linear lookup table with Parmec's interval and extrapolation rules (spec parmec-springs §3).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace dembridge::springs {
+
+class SpringTable {
+ public:
+  struct Sample {
+    double value;
+    double slope;
+  };
+  struct Inverse {
+    double slope;  // slope of the interval holding the force
+    double at;     // stroke where the (extended) curve takes the force
+  };
+
+  SpringTable() = default;
+
+  // Table from [x1, y1, x2, y2, ...]. Throws std::invalid_argument (message says which rule broke)
+  // unless it has an even length >= 4 and strictly increasing x (spec §2.1).
+  static SpringTable from_pairs(const std::vector<double>& xy, const char* what = "table");
+  // The default dashpot/torsion table (Parmec: [-REAL_MAX, 0, +REAL_MAX, 0]): identically zero (spec §3).
+  static SpringTable zero();
+
+  // Value and slope at s: the interval x_lo < s <= x_hi (a breakpoint selects its LEFT interval),
+  // first/last interval extended linearly outside the table (no clamping).
+  Sample lookup(double s) const;
+  // Same search on the y column (curve must be strictly increasing, e.g. an unload curve).
+  Inverse lookup_by_force(double f) const;
+
+  double max_abs_slope() const;
+  bool strictly_increasing_values() const;
+  std::size_t points() const { return x_.size(); }
+  const std::vector<double>& x() const { return x_; }
+  const std::vector<double>& y() const { return y_; }
+  bool empty() const { return x_.empty(); }
+
+ private:
+  static std::size_t left_interval(const std::vector<double>& col, double arg);
+  std::vector<double> x_, y_;
+};
+
+}  // namespace dembridge::springs

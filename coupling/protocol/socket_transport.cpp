@@ -1,0 +1,327 @@
+#include "socket_transport.h"
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <sstream>
+#include <thread>
+
+#include "deadline.h"
+#include "protocol_error.h"
+
+namespace dembridge::mbdyn {
+
+namespace {
+
+std::string errno_text(int err) { return std::string(std::strerror(err)) + " (errno " + std::to_string(err) + ")"; }
+
+std::string seconds_text(double s) {
+  std::ostringstream o;
+  o << s << " s";
+  return o.str();
+}
+
+sockaddr_un unix_address(const std::string& path) {
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  if (path.empty() || path.size() >= sizeof(addr.sun_path))
+    throw SystemError("unix socket path '" + path + "': expected 1 to " +
+                      std::to_string(sizeof(addr.sun_path) - 1) + " characters, got " +
+                      std::to_string(path.size()));
+  std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
+  return addr;
+}
+
+sockaddr_in inet_address(const std::string& host, std::uint16_t port) {
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(port);
+  if (inet_pton(AF_INET, host.c_str(), &addr.sin_addr) == 1) return addr;
+  addrinfo hints{};
+  hints.ai_family = AF_INET;
+  hints.ai_socktype = SOCK_STREAM;
+  addrinfo* found = nullptr;
+  const int rc = getaddrinfo(host.c_str(), nullptr, &hints, &found);
+  if (rc != 0 || !found)
+    throw SystemError("cannot resolve host '" + host + "': " + gai_strerror(rc));
+  addr.sin_addr = reinterpret_cast<sockaddr_in*>(found->ai_addr)->sin_addr;
+  freeaddrinfo(found);
+  return addr;
+}
+
+void set_tcp_options(int fd) {
+  // spec P3: MBDyn does not set TCP_NODELAY; at least our own writes must not wait for ACKs.
+  int one = 1;
+  setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+}
+
+// Waits for events on fd; returns false when the deadline expired.
+bool wait_for(int fd, short events, const Deadline& deadline) {
+  for (;;) {
+    pollfd p{fd, events, 0};
+    const int rc = ::poll(&p, 1, deadline.poll_timeout_ms());
+    if (rc > 0) return true;
+    if (rc == 0) {
+      if (deadline.expired()) return false;
+      continue;
+    }
+    if (errno == EINTR) continue;
+    throw SystemError("poll() failed: " + errno_text(errno));
+  }
+}
+
+bool is_retryable_connect_error(int err) {
+  // The socket does not exist yet, nobody listens yet, or MBDyn's backlog of 1 is full.
+  return err == ENOENT || err == ECONNREFUSED || err == EAGAIN || err == ECONNRESET;
+}
+
+}  // namespace
+
+Endpoint Endpoint::unix_path(const std::string& path) {
+  Endpoint e;
+  e.kind = Kind::Unix;
+  e.path = path;
+  return e;
+}
+
+Endpoint Endpoint::tcp(const std::string& host, std::uint16_t port) {
+  Endpoint e;
+  e.kind = Kind::Tcp;
+  e.host = host;
+  e.port = port;
+  return e;
+}
+
+std::string Endpoint::describe() const {
+  if (kind == Kind::Unix) return "unix socket " + path;
+  return "tcp " + host + ":" + std::to_string(port);
+}
+
+SocketTransport::SocketTransport(int fd, bool tcp, std::string description)
+    : fd_(fd), tcp_(tcp), description_(std::move(description)) {}
+
+SocketTransport::SocketTransport(SocketTransport&& o) noexcept
+    : fd_(o.fd_), tcp_(o.tcp_), description_(std::move(o.description_)) {
+  o.fd_ = -1;
+}
+
+SocketTransport& SocketTransport::operator=(SocketTransport&& o) noexcept {
+  if (this != &o) {
+    close();
+    fd_ = o.fd_;
+    tcp_ = o.tcp_;
+    description_ = std::move(o.description_);
+    o.fd_ = -1;
+  }
+  return *this;
+}
+
+SocketTransport::~SocketTransport() { close(); }
+
+void SocketTransport::close() noexcept {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+}
+
+SocketTransport SocketTransport::connect(const Endpoint& endpoint, double timeout_s) {
+  const Deadline deadline(timeout_s);
+  const bool tcp = endpoint.kind == Endpoint::Kind::Tcp;
+  sockaddr_un ua{};
+  sockaddr_in ia{};
+  if (tcp)
+    ia = inet_address(endpoint.host, endpoint.port);
+  else
+    ua = unix_address(endpoint.path);
+  const sockaddr* addr = tcp ? reinterpret_cast<const sockaddr*>(&ia) : reinterpret_cast<const sockaddr*>(&ua);
+  const socklen_t len = tcp ? sizeof ia : sizeof ua;
+
+  int last_error = 0;
+  for (;;) {
+    const int fd = ::socket(tcp ? AF_INET : AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+    if (fd < 0) throw SystemError("socket() for " + endpoint.describe() + ": " + errno_text(errno));
+    int err = 0;
+    if (::connect(fd, addr, len) != 0) {
+      err = errno;
+      if (err == EINPROGRESS || err == EINTR) {
+        if (!wait_for(fd, POLLOUT, deadline)) {
+          ::close(fd);
+          throw TimeoutError("connecting to MBDyn on " + endpoint.describe() +
+                             ": expected the connection within " + seconds_text(timeout_s) +
+                             ", still in progress");
+        }
+        socklen_t sl = sizeof err;
+        getsockopt(fd, SOL_SOCKET, SO_ERROR, &err, &sl);
+      }
+    }
+    if (err == 0) {
+      if (tcp) set_tcp_options(fd);
+      return SocketTransport(fd, tcp, endpoint.describe());
+    }
+    ::close(fd);
+    if (!is_retryable_connect_error(err))
+      throw SystemError("connecting to MBDyn on " + endpoint.describe() + ": " + errno_text(err));
+    last_error = err;
+    // libmbc and MBDyn retry every 100 ms (spec §1).
+    const int left = deadline.poll_timeout_ms();
+    if (left == 0)
+      throw TimeoutError("connecting to MBDyn on " + endpoint.describe() +
+                         ": expected MBDyn to accept within " + seconds_text(timeout_s) +
+                         ", last attempt failed with " + errno_text(last_error) +
+                         " (is MBDyn running with `socket, create, yes`?)");
+    std::this_thread::sleep_for(std::chrono::milliseconds(left < 0 ? 100 : std::min(left, 100)));
+  }
+}
+
+void SocketTransport::read_exact(void* buffer, std::size_t n, double timeout_s, const std::string& what) {
+  if (fd_ < 0) throw PeerClosedError("reading " + what + ": the connection to MBDyn is closed");
+  const Deadline deadline(timeout_s);
+  auto* p = static_cast<std::uint8_t*>(buffer);
+  std::size_t got = 0;
+  while (got < n) {
+    if (tcp_) {
+      // spec P3: the flag is not sticky; without it MBDyn's split writes stall ~40 ms on Nagle.
+      int one = 1;
+      setsockopt(fd_, IPPROTO_TCP, TCP_QUICKACK, &one, sizeof one);
+    }
+    const ssize_t rc = ::recv(fd_, p + got, n - got, 0);
+    if (rc > 0) {
+      got += static_cast<std::size_t>(rc);
+      continue;
+    }
+    if (rc == 0)
+      throw PeerClosedError("MBDyn closed the connection (" + description_ + ") while " + what +
+                            " was expected: received " + std::to_string(got) + " of " +
+                            std::to_string(n) + " bytes");
+    const int err = errno;
+    if (err == EINTR) continue;
+    if (err == EAGAIN || err == EWOULDBLOCK) {
+      if (!wait_for(fd_, POLLIN, deadline))
+        throw TimeoutError("timed out after " + seconds_text(timeout_s) + " waiting for " + what +
+                           " from MBDyn (" + description_ + "): received " + std::to_string(got) +
+                           " of " + std::to_string(n) + " bytes");
+      continue;
+    }
+    if (err == ECONNRESET)
+      throw PeerClosedError("MBDyn reset the connection (" + description_ + ") while " + what +
+                            " was expected: received " + std::to_string(got) + " of " +
+                            std::to_string(n) + " bytes");
+    throw SystemError("recv() of " + what + " from " + description_ + ": " + errno_text(err));
+  }
+}
+
+void SocketTransport::write_all(const void* buffer, std::size_t n, double timeout_s, const std::string& what) {
+  if (fd_ < 0) throw PeerClosedError("writing " + what + ": the connection to MBDyn is closed");
+  const Deadline deadline(timeout_s);
+  const auto* p = static_cast<const std::uint8_t*>(buffer);
+  std::size_t sent = 0;
+  while (sent < n) {
+    // MSG_NOSIGNAL: a dead MBDyn must give an error, not kill LAMMPS with SIGPIPE.
+    const ssize_t rc = ::send(fd_, p + sent, n - sent, MSG_NOSIGNAL);
+    if (rc >= 0) {
+      sent += static_cast<std::size_t>(rc);
+      continue;
+    }
+    const int err = errno;
+    if (err == EINTR) continue;
+    if (err == EAGAIN || err == EWOULDBLOCK) {
+      if (!wait_for(fd_, POLLOUT, deadline))
+        throw TimeoutError("timed out after " + seconds_text(timeout_s) + " sending " + what +
+                           " to MBDyn (" + description_ + "): sent " + std::to_string(sent) +
+                           " of " + std::to_string(n) + " bytes");
+      continue;
+    }
+    if (err == EPIPE || err == ECONNRESET)
+      throw PeerClosedError("MBDyn closed the connection (" + description_ + ") while sending " +
+                            what + ": sent " + std::to_string(sent) + " of " + std::to_string(n) +
+                            " bytes");
+    throw SystemError("send() of " + what + " to " + description_ + ": " + errno_text(err));
+  }
+}
+
+bool SocketTransport::try_write_byte(std::uint8_t byte, double timeout_s) noexcept {
+  try {
+    write_all(&byte, 1, timeout_s, "command " + std::to_string(byte));
+    return true;
+  } catch (...) {
+    return false;
+  }
+}
+
+SocketListener::SocketListener(const Endpoint& endpoint) : endpoint_(endpoint) {
+  const bool tcp = endpoint.kind == Endpoint::Kind::Tcp;
+  fd_ = ::socket(tcp ? AF_INET : AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (fd_ < 0) throw SystemError("socket() for " + endpoint.describe() + ": " + errno_text(errno));
+  int rc;
+  if (tcp) {
+    int one = 1;
+    setsockopt(fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+    const sockaddr_in addr = inet_address(endpoint.host, endpoint.port);
+    rc = ::bind(fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr);
+  } else {
+    const sockaddr_un addr = unix_address(endpoint.path);
+    ::unlink(endpoint.path.c_str());  // stale file of a crashed run (spec P11)
+    rc = ::bind(fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr);
+  }
+  if (rc != 0 || ::listen(fd_, 1) != 0) {
+    const int err = errno;
+    ::close(fd_);
+    fd_ = -1;
+    throw SystemError("cannot listen on " + endpoint.describe() + ": " + errno_text(err));
+  }
+  if (tcp) {
+    sockaddr_in bound{};
+    socklen_t len = sizeof bound;
+    getsockname(fd_, reinterpret_cast<sockaddr*>(&bound), &len);
+    bound_port_ = ntohs(bound.sin_port);
+  }
+}
+
+SocketListener::SocketListener(SocketListener&& o) noexcept
+    : endpoint_(std::move(o.endpoint_)), fd_(o.fd_), bound_port_(o.bound_port_) {
+  o.fd_ = -1;
+}
+
+SocketListener::~SocketListener() { close(); }
+
+void SocketListener::close() noexcept {
+  if (fd_ < 0) return;
+  ::close(fd_);
+  fd_ = -1;
+  if (endpoint_.kind == Endpoint::Kind::Unix) ::unlink(endpoint_.path.c_str());
+}
+
+SocketTransport SocketListener::accept(double timeout_s) {
+  if (fd_ < 0) throw SystemError("accept on " + endpoint_.describe() + ": the listener is closed");
+  const Deadline deadline(timeout_s);
+  for (;;) {
+    const int fd = ::accept4(fd_, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
+    if (fd >= 0) {
+      const bool tcp = endpoint_.kind == Endpoint::Kind::Tcp;
+      if (tcp) set_tcp_options(fd);
+      std::string description = endpoint_.describe();
+      if (tcp) description = "tcp " + endpoint_.host + ":" + std::to_string(bound_port_);
+      close();
+      return SocketTransport(fd, tcp, description);
+    }
+    const int err = errno;
+    if (err == EINTR || err == ECONNABORTED) continue;
+    if (err != EAGAIN && err != EWOULDBLOCK)
+      throw SystemError("accept() on " + endpoint_.describe() + ": " + errno_text(err));
+    if (!wait_for(fd_, POLLIN, deadline))
+      throw TimeoutError("waiting on " + endpoint_.describe() + ": expected MBDyn (`socket, create, no`) to connect within " +
+                         seconds_text(timeout_s) + ", nobody connected");
+  }
+}
+
+}  // namespace dembridge::mbdyn

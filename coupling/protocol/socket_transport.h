@@ -1,0 +1,82 @@
+// Byte transport to MBDyn over a stream socket (spec §1): AF_UNIX path or TCP. Every blocking
+// call waits in poll() with a deadline (spec P4); reads are exact-length (P1); a message goes
+// out in one send() (P2); TCP gets TCP_NODELAY and TCP_QUICKACK before every recv (P3).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace dembridge::mbdyn {
+
+// Where the MBDyn socket lives: `path, "<file>"` or `port, <n> [, host, "<h>"]`.
+struct Endpoint {
+  enum class Kind { Unix, Tcp };
+  Kind kind = Kind::Unix;
+  std::string path;               // Unix
+  std::string host = "127.0.0.1";  // Tcp; MBDyn's default host (spec §1)
+  std::uint16_t port = 0;         // Tcp
+
+  static Endpoint unix_path(const std::string& path);
+  static Endpoint tcp(const std::string& host, std::uint16_t port);
+  std::string describe() const;  // "unix socket /x/mbdyn.sock" or "tcp 127.0.0.1:9011"
+};
+
+class SocketTransport {
+ public:
+  SocketTransport() = default;
+  SocketTransport(int fd, bool tcp, std::string description);
+  SocketTransport(SocketTransport&& o) noexcept;
+  SocketTransport& operator=(SocketTransport&& o) noexcept;
+  SocketTransport(const SocketTransport&) = delete;
+  SocketTransport& operator=(const SocketTransport&) = delete;
+  ~SocketTransport();
+
+  // MBDyn `create, yes`: connect, retrying every 100 ms while the socket does not exist yet or
+  // refuses (ENOENT/ECONNREFUSED), until timeout_s (spec §1, P11). Throws TimeoutError.
+  static SocketTransport connect(const Endpoint& endpoint, double timeout_s);
+
+  // Reads exactly n bytes. what names the expected data in error messages
+  // ("kinematics payload"); throws TimeoutError or PeerClosedError stating bytes received.
+  void read_exact(void* buffer, std::size_t n, double timeout_s, const std::string& what);
+  // Writes n bytes with a single send() when the kernel takes them (always for small messages);
+  // loops only on a partial send. Throws TimeoutError or PeerClosedError.
+  void write_all(const void* buffer, std::size_t n, double timeout_s, const std::string& what);
+  // Best effort for clean aborts: tries to write one byte within timeout_s, never throws.
+  bool try_write_byte(std::uint8_t byte, double timeout_s) noexcept;
+
+  void close() noexcept;
+  bool is_open() const { return fd_ >= 0; }
+  bool is_tcp() const { return tcp_; }
+  int fd() const { return fd_; }
+  const std::string& description() const { return description_; }
+
+ private:
+  int fd_ = -1;
+  bool tcp_ = false;
+  std::string description_;
+};
+
+// MBDyn `create, no`: the peer listens and MBDyn connects while it parses its input (spec §1).
+// Listening starts in the constructor so MBDyn can be launched afterwards; a Unix path is
+// unlinked before bind (stale file) and after close.
+class SocketListener {
+ public:
+  explicit SocketListener(const Endpoint& endpoint);
+  SocketListener(SocketListener&& o) noexcept;
+  SocketListener(const SocketListener&) = delete;
+  SocketListener& operator=(const SocketListener&) = delete;
+  ~SocketListener();
+
+  // Waits for one connection up to timeout_s (TimeoutError), then stops listening.
+  SocketTransport accept(double timeout_s);
+  std::uint16_t bound_port() const { return bound_port_; }  // TCP, useful with port 0
+  void close() noexcept;
+
+ private:
+  Endpoint endpoint_;
+  int fd_ = -1;
+  std::uint16_t bound_port_ = 0;
+};
+
+}  // namespace dembridge::mbdyn

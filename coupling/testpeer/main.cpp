@@ -1,0 +1,136 @@
+// mbdyn_testpeer: plays MBDyn's `external structural` side so Python/LAMMPS tests can run a
+// coupling without MBDyn. Exit status as MBDyn's: 0 completed, 1 error, 2 interrupted.
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+
+#include "mbdyn_test_peer.h"
+
+using namespace dembridge::mbdyn::testpeer;
+
+namespace {
+
+const char* kUsage =
+    "usage: mbdyn_testpeer (--path FILE | --port N [--host H]) [options]\n"
+    "  --create yes|no          yes (default): listen like MBDyn `create, yes`; no: connect\n"
+    "  --nodes N                number of points (default 1)\n"
+    "  --orientation none|vector|matrix|euler123   (default matrix, MBDyn's default)\n"
+    "  --labels  --accelerations  --reference-node\n"
+    "  --coupling loose|tight|none   (default loose)\n"
+    "  --steps K (default 10)   --dt DT (default 1e-3)\n"
+    "  --mass M  --inertia J  --gravity gx,gy,gz\n"
+    "  --x0 x,y,z  --v0 vx,vy,vz   initial state of the next node (repeat per node)\n"
+    "  --max-iterations N  --derivatives-max-iterations N   (tight)\n"
+    "  --accept-timeout S  --io-timeout S   (default 30 each)\n"
+    "  --fault none|garbage-command|short-then-close|short-then-stall|nan|die  --fault-message K\n"
+    "  --trajectory FILE        write t, then per node x y z vx vy vz theta theta_dot\n";
+
+[[noreturn]] void usage_error(const std::string& why) {
+  std::cerr << "mbdyn_testpeer: " << why << "\n" << kUsage;
+  std::exit(64);
+}
+
+V3 parse_v3(const std::string& s) {
+  V3 v{};
+  char c1, c2;
+  std::istringstream in(s);
+  if (!(in >> v[0] >> c1 >> v[1] >> c2 >> v[2]) || c1 != ',' || c2 != ',') usage_error("expected x,y,z, got '" + s + "'");
+  return v;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  PeerSetup s;
+  s.accept_timeout_s = 30;
+  s.io_timeout_s = 30;
+  std::string trajectory_file;
+  std::vector<V3> x0, v0;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) usage_error("missing value after " + a);
+      return argv[++i];
+    };
+    if (a == "--path") s.place.unix_path = value();
+    else if (a == "--port") s.place.tcp_port = std::stoi(value());
+    else if (a == "--host") s.place.host = value();
+    else if (a == "--create") s.mbdyn_creates_socket = value() != "no";
+    else if (a == "--nodes") s.shape.nodes = static_cast<std::uint32_t>(std::stoul(value()));
+    else if (a == "--orientation") {
+      const std::string o = value();
+      if (o == "none") s.shape.orientation = Orientation::None;
+      else if (o == "vector") s.shape.orientation = Orientation::Vector;
+      else if (o == "matrix") s.shape.orientation = Orientation::Matrix;
+      else if (o == "euler123") s.shape.orientation = Orientation::Euler123;
+      else usage_error("unknown orientation " + o);
+    } else if (a == "--labels") s.shape.labels = true;
+    else if (a == "--accelerations") s.shape.accelerations = true;
+    else if (a == "--reference-node") s.shape.reference_node = true;
+    else if (a == "--coupling") {
+      const std::string c = value();
+      if (c == "loose") s.coupling = CouplingMode::Loose;
+      else if (c == "tight") s.coupling = CouplingMode::Tight;
+      else if (c == "none") s.coupling = CouplingMode::None;
+      else usage_error("unknown coupling " + c);
+    } else if (a == "--steps") s.steps = std::stoi(value());
+    else if (a == "--dt") s.dt = std::stod(value());
+    else if (a == "--mass") s.model.mass = std::stod(value());
+    else if (a == "--inertia") s.model.inertia = std::stod(value());
+    else if (a == "--gravity") s.model.gravity = parse_v3(value());
+    else if (a == "--x0") x0.push_back(parse_v3(value()));
+    else if (a == "--v0") v0.push_back(parse_v3(value()));
+    else if (a == "--max-iterations") s.max_iterations = std::stoi(value());
+    else if (a == "--derivatives-max-iterations") s.derivatives_max_iterations = std::stoi(value());
+    else if (a == "--accept-timeout") s.accept_timeout_s = std::stod(value());
+    else if (a == "--io-timeout") s.io_timeout_s = std::stod(value());
+    else if (a == "--fault") {
+      const std::string f = value();
+      if (f == "none") s.fault = Fault::None;
+      else if (f == "garbage-command") s.fault = Fault::GarbageCommand;
+      else if (f == "short-then-close") s.fault = Fault::ShortPayloadThenClose;
+      else if (f == "short-then-stall") s.fault = Fault::ShortPayloadThenStall;
+      else if (f == "nan") s.fault = Fault::NanInKinematics;
+      else if (f == "die") s.fault = Fault::DieMidRun;
+      else usage_error("unknown fault " + f);
+    } else if (a == "--fault-message") s.fault_message = std::stoi(value());
+    else if (a == "--trajectory") trajectory_file = value();
+    else if (a == "--help" || a == "-h") {
+      std::cout << kUsage;
+      return 0;
+    } else usage_error("unknown option " + a);
+  }
+  if (s.place.unix_path.empty() && s.place.tcp_port < 0) usage_error("give --path or --port");
+  if (s.place.tcp_port >= 0 && s.place.tcp_port != 0 && s.place.tcp_port <= 5000)
+    usage_error("MBDyn only accepts ports above 5000 (IPPORT_USERRESERVED)");
+
+  s.model.initial = default_initial_states(s.shape.nodes);
+  for (std::size_t i = 0; i < x0.size() && i < s.model.initial.size(); ++i) s.model.initial[i].x = x0[i];
+  for (std::size_t i = 0; i < v0.size() && i < s.model.initial.size(); ++i) s.model.initial[i].v = v0[i];
+  s.on_listening = [](int port) {
+    if (port >= 0) std::cout << "mbdyn_testpeer: listening on port " << port << std::endl;
+  };
+
+  const PeerOutcome out = run_mbdyn_test_peer(s);
+
+  if (!trajectory_file.empty()) {
+    std::ofstream f(trajectory_file);
+    f.precision(17);
+    f << "# t, then per node: x y z vx vy vz theta theta_dot\n";
+    for (const PeerSample& p : out.trajectory) {
+      f << p.t;
+      for (const BodyState& b : p.bodies)
+        f << ' ' << b.x[0] << ' ' << b.x[1] << ' ' << b.x[2] << ' ' << b.v[0] << ' ' << b.v[1] << ' '
+          << b.v[2] << ' ' << b.theta << ' ' << b.theta_dot;
+      f << '\n';
+    }
+  }
+  std::cout << "mbdyn_testpeer: exit " << out.exit_status << ": " << out.log << " ("
+            << out.kinematics_sent << " kinematics messages, " << out.answers.size() << " answers, "
+            << (out.trajectory.empty() ? 0 : out.trajectory.size() - 1) << " steps)" << std::endl;
+  return out.exit_status;
+}

@@ -1,0 +1,73 @@
+// A stand-in for MBDyn's `external structural` element over a socket, byte for byte as the spec
+// describes it (server or client role, negotiation checks, the t0 exchange, loose / tight / none
+// coupling, MBDyn's error reactions), driving the OscillatorModel. Fault injection covers the
+// robustness cases of the peer-side library. Independent of coupling/protocol.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "oscillator_model.h"
+#include "testpeer_socket.h"
+#include "testpeer_wire.h"
+
+namespace dembridge::mbdyn::testpeer {
+
+enum class CouplingMode { Loose, Tight, None };
+
+// What the test peer does wrong, at kinematics message number fault_message (0 = t0 message).
+enum class Fault {
+  None,
+  GarbageCommand,         // command byte 66 instead of 2/6, then waits for the peer's 5
+  ShortPayloadThenClose,  // command + half the payload, then closes
+  ShortPayloadThenStall,  // command + half the payload, then waits for the peer's 5
+  NanInKinematics,        // velocity y of the last node is NaN, then waits for the peer's 5
+  DieMidRun,              // closes the socket (RST on TCP) instead of sending
+};
+
+struct PeerSetup {
+  SocketPlace place;
+  bool mbdyn_creates_socket = true;  // `create, yes`: the test peer listens
+  ElementShape shape;
+  std::vector<std::uint32_t> node_labels;  // default 10, 20, 30, ...
+  std::uint32_t reference_label = 1;
+  CouplingMode coupling = CouplingMode::Loose;
+  int steps = 10;
+  double dt = 1e-3;
+  OscillatorParameters model;  // initial states default to a fixed, non-trivial set
+  int max_iterations = 20;             // tight: exchanges per step before MBDyn gives up
+  int derivatives_max_iterations = 10;  // tight: t0 exchanges (spec T1)
+  double accept_timeout_s = 10.0;
+  double io_timeout_s = 10.0;  // the real MBDyn waits forever; tests must not
+  Fault fault = Fault::None;
+  int fault_message = 1;
+  std::function<void(int port)> on_listening;  // called once listening (TCP port if any)
+};
+
+struct PeerSample {
+  double t = 0;
+  std::vector<BodyState> bodies;
+};
+
+struct PeerOutcome {
+  int exit_status = 1;  // MBDyn's: 0 completed, 1 error, 2 interrupted (spec §6)
+  std::string log;      // MBDyn-like reason for the end
+  std::uint32_t received_flags = 0;
+  std::uint32_t received_nodes = 0;
+  int kinematics_sent = 0;
+  std::vector<std::uint8_t> answers;  // command bytes received from the peer, in order
+  std::vector<PeerSample> trajectory;  // converged states at t0 and after every step
+  LoadsMessage last_loads;             // as received (reference-node frame if any)
+  bool abort_received_after_fault = false;
+};
+
+PeerOutcome run_mbdyn_test_peer(const PeerSetup& setup);
+
+// Default initial states used when setup.model.initial is empty.
+std::vector<BodyState> default_initial_states(std::uint32_t nodes);
+// Fixed reference node pose used with shape.reference_node (static, tilted, off-origin).
+NodeState reference_node_state(std::uint32_t label);
+
+}  // namespace dembridge::mbdyn::testpeer

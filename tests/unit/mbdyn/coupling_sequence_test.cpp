@@ -1,0 +1,210 @@
+// Message sequences of loose, tight and none coupling (spec §5) and the 4 / 5 answers, with the
+// step bookkeeping of Received checked against what the test peer counted.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+
+#include "protocol_error.h"
+#include "test_support.h"
+
+using namespace dembridge::mbdyn;
+using dembridge::mbdyn::test::PeerThread;
+
+namespace {
+
+NodalConfig two_matrix_nodes() {
+  NodalConfig c;
+  c.num_points = 2;
+  c.rotation = Rotation::OrientationMatrix;
+  return c;
+}
+
+}  // namespace
+
+TEST(CouplingSequence, LooseIsOneExchangePerStepPlusTheT0Exchange) {
+  NodalConfig c = two_matrix_nodes();
+  c.num_points = 3;  // odd N with labels: the pad word must be there both ways
+  c.labels = true;
+  c.reference_node = true;
+  auto pair = test::make_pair_setup(c, Coupling::Loose, "loose");
+  pair.peer.steps = 20;
+  PeerThread peer(pair.peer);
+  PeerSession s = PeerSession::open(pair.session);
+  std::vector<Kinematics> seen;
+  for (std::uint64_t expected = 0;; ++expected) {
+    const Received r = s.receive();
+    if (!r.is_kinematics()) break;
+    EXPECT_EQ(r.message_index, expected);
+    EXPECT_EQ(r.step, expected);  // loose: message k is step k, message 0 is t0 (spec P7)
+    EXPECT_EQ(r.iteration, 0u);
+    EXPECT_TRUE(r.starts_new_step);
+    EXPECT_EQ(s.kinematics().command, Command::RegularDataAndGotoNextStep);
+    EXPECT_EQ(s.kinematics().labels, (std::vector<std::uint32_t>{10, 20, 30}));
+    EXPECT_EQ(s.kinematics().reference.label, 1u);
+    seen.push_back(s.kinematics());
+    // Labels are left empty: the session echoes the received ones (spec P10).
+    s.send_loads(Loads(c), true);
+  }
+  EXPECT_TRUE(s.finished());
+  ASSERT_EQ(seen.size(), 21u);
+  // spec §5: the step-1 "prediction" is the initial state itself.
+  EXPECT_EQ(seen[1].x, seen[0].x);
+  EXPECT_EQ(seen[1].v, seen[0].v);
+  const auto out = peer.join();
+  EXPECT_EQ(out.exit_status, 0) << out.log;
+  EXPECT_EQ(out.kinematics_sent, 21);
+  EXPECT_EQ(out.answers, std::vector<std::uint8_t>(21, 6));
+}
+
+TEST(CouplingSequence, LooseRefusesToAnswerTwo) {
+  auto pair = test::make_pair_setup(two_matrix_nodes(), Coupling::Loose, "loose2");
+  pair.peer.steps = 1;
+  PeerThread peer(pair.peer);
+  PeerSession s = PeerSession::open(pair.session);
+  ASSERT_TRUE(s.receive().is_kinematics());
+  EXPECT_THROW(s.send_loads(Loads(s.config()), false), std::logic_error);  // spec §5.1, P9
+  EXPECT_THROW(s.receive(), std::logic_error);  // still owes an answer
+  s.send_converged_keep_loads();                // 4 is a valid loose answer
+  ASSERT_TRUE(s.receive().is_kinematics());
+  s.send_loads(Loads(s.config()), true);
+  EXPECT_FALSE(s.receive().is_kinematics());
+  const auto out = peer.join();
+  EXPECT_EQ(out.exit_status, 0) << out.log;
+  EXPECT_EQ(out.answers, (std::vector<std::uint8_t>{4, 6}));
+}
+
+TEST(CouplingSequence, TightIteratesUntilThePeerDeclaresConvergence) {
+  // 3 exchanges per step, t0 answered with 6 (spec T1): 1 + 3 x steps messages, all cmd 2.
+  auto pair = test::make_pair_setup(two_matrix_nodes(), Coupling::Tight, "tight");
+  pair.peer.steps = 10;
+  PeerThread peer(pair.peer);
+  PeerSession s = PeerSession::open(pair.session);
+  std::uint64_t messages = 0;
+  for (;;) {
+    const Received r = s.receive();
+    if (!r.is_kinematics()) break;
+    ++messages;
+    EXPECT_EQ(s.kinematics().command, Command::RegularData);
+    if (r.message_index == 0) {
+      EXPECT_EQ(r.step, 0u);
+      s.send_loads(Loads(s.config()), true);
+      continue;
+    }
+    EXPECT_EQ(r.step, (r.message_index - 1) / 3 + 1);
+    EXPECT_EQ(r.iteration, (r.message_index - 1) % 3);
+    EXPECT_EQ(r.starts_new_step, r.iteration == 0);
+    if (r.iteration < 2)
+      s.send_loads(Loads(s.config()), false);
+    else if (r.step % 2)
+      s.send_loads(Loads(s.config()), true);
+    else
+      s.send_converged_keep_loads();
+  }
+  EXPECT_EQ(messages, 31u);
+  const auto out = peer.join();
+  EXPECT_EQ(out.exit_status, 0) << out.log;
+  EXPECT_EQ(out.kinematics_sent, 31);
+  EXPECT_EQ(out.trajectory.size(), 11u);
+}
+
+TEST(CouplingSequence, TightT0AnsweredWithTwoIsRepeatedByMbdyn) {
+  // spec T1: answering 2 at t0 makes the derivatives solve send t0 again; the session counts it
+  // as iteration 1 of step 0.
+  auto pair = test::make_pair_setup(two_matrix_nodes(), Coupling::Tight, "tight-t0");
+  pair.peer.steps = 1;
+  PeerThread peer(pair.peer);
+  PeerSession s = PeerSession::open(pair.session);
+  Received r = s.receive();
+  EXPECT_EQ(r.step, 0u);
+  s.send_loads(Loads(s.config()), false);
+  r = s.receive();
+  EXPECT_EQ(r.step, 0u);
+  EXPECT_EQ(r.iteration, 1u);
+  s.send_loads(Loads(s.config()), true);
+  r = s.receive();
+  EXPECT_EQ(r.step, 1u);
+  EXPECT_TRUE(r.starts_new_step);
+  s.send_loads(Loads(s.config()), true);
+  EXPECT_FALSE(s.receive().is_kinematics());
+  EXPECT_EQ(peer.join().exit_status, 0);
+}
+
+TEST(CouplingSequence, NoneIsAOneWayStream) {
+  auto pair = test::make_pair_setup(two_matrix_nodes(), Coupling::None, "none");
+  pair.peer.steps = 5;
+  PeerThread peer(pair.peer);
+  PeerSession s = PeerSession::open(pair.session);
+  int messages = 0;
+  for (;;) {
+    const Received r = s.receive();
+    if (!r.is_kinematics()) break;
+    EXPECT_EQ(r.step, static_cast<std::uint64_t>(messages));
+    ++messages;
+    EXPECT_THROW(s.send_loads(Loads(s.config()), true), std::logic_error);
+  }
+  EXPECT_EQ(messages, 7);  // steps + 2, as the verified 1002 for 1000 steps (spec §5.3)
+  const auto out = peer.join();
+  EXPECT_EQ(out.exit_status, 0) << out.log;
+  EXPECT_TRUE(out.answers.empty());
+}
+
+TEST(CouplingSequence, MismatchedCouplingModeIsDetectedAndMbdynStopped) {
+  auto pair = test::make_pair_setup(two_matrix_nodes(), Coupling::Tight, "mismatch");
+  pair.session.coupling = Coupling::Loose;
+  PeerThread peer(pair.peer);
+  PeerSession s = PeerSession::open(pair.session);
+  try {
+    s.receive();
+    FAIL() << "expected MalformedMessageError";
+  } catch (const MalformedMessageError& e) {
+    EXPECT_NE(std::string(e.what()).find("loose coupling expects 6"), std::string::npos) << e.what();
+  }
+  const auto out = peer.join();
+  EXPECT_EQ(out.answers, std::vector<std::uint8_t>{5}) << out.log;
+  EXPECT_EQ(out.exit_status, 2) << out.log;
+}
+
+TEST(CouplingSequence, PeerStopRequestEndsMbdynAfterTheCurrentStep) {
+  auto pair = test::make_pair_setup(two_matrix_nodes(), Coupling::Loose, "stop");
+  pair.peer.steps = 50;
+  PeerThread peer(pair.peer);
+  PeerSession s = PeerSession::open(pair.session);
+  for (int i = 0; i < 4; ++i) {
+    ASSERT_TRUE(s.receive().is_kinematics());
+    s.send_loads(Loads(s.config()), true);
+  }
+  ASSERT_EQ(s.receive().step, 4u);
+  s.request_stop();
+  EXPECT_FALSE(s.receive().is_kinematics());
+  EXPECT_TRUE(s.finished());
+  const auto out = peer.join();
+  EXPECT_EQ(out.exit_status, 2) << out.log;  // "MBDyn was interrupted"
+  EXPECT_EQ(out.trajectory.size(), 5u);      // t0 and steps 1..4, step 4 completed
+  EXPECT_EQ(out.answers.back(), 5);
+}
+
+TEST(CouplingSequence, TcpExchangeDoesNotStallOnNagleAndDelayedAck) {
+  // The test peer, like MBDyn, writes command and payload separately without TCP_NODELAY.
+  // Without TCP_QUICKACK on our receives each exchange costs ~40 ms (spec P3).
+  const int steps = 200;
+  double per_exchange[2] = {0, 0};
+  for (int tcp = 0; tcp < 2; ++tcp) {
+    auto pair = test::make_pair_setup(two_matrix_nodes(), Coupling::Loose, "latency");
+    pair.peer.steps = steps;
+    if (tcp) pair.peer.place.tcp_port = 0;
+    PeerThread peer(pair.peer);
+    if (tcp) pair.session.endpoint = Endpoint::tcp("127.0.0.1", static_cast<std::uint16_t>(peer.port()));
+    PeerSession s = PeerSession::open(pair.session);
+    ASSERT_TRUE(s.receive().is_kinematics());
+    const auto t0 = std::chrono::steady_clock::now();
+    for (;;) {
+      s.send_loads(Loads(s.config()), true);
+      if (!s.receive().is_kinematics()) break;
+    }
+    per_exchange[tcp] = test::seconds_since(t0) / steps;
+    EXPECT_EQ(peer.join().exit_status, 0);
+  }
+  std::printf("[ latency  ] per exchange: unix %.1f us, tcp %.1f us\n", per_exchange[0] * 1e6, per_exchange[1] * 1e6);
+  EXPECT_LT(per_exchange[1], 5e-3);
+}

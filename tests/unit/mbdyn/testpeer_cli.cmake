@@ -1,0 +1,16 @@
+# The mbdyn_testpeer executable as later Python/LAMMPS tests will use it: it must print its
+# usage, and it must refuse a port at or below 5000 as MBDyn's parser does (spec §1).
+execute_process(COMMAND ${PEER} --help RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "--coupling loose\\|tight\\|none")
+  message(FATAL_ERROR "mbdyn_testpeer --help failed (${rc}): ${out}")
+endif()
+execute_process(COMMAND ${PEER} --port 4000 RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(NOT rc EQUAL 64 OR NOT err MATCHES "above 5000")
+  message(FATAL_ERROR "mbdyn_testpeer accepted port 4000 (${rc}): ${err}")
+endif()
+# Nobody connects: it must give up within its accept timeout with MBDyn's error status 1.
+execute_process(COMMAND ${PEER} --path /tmp/dembridge-mbdyn-cli-$ENV{USER}-nobody.sock --accept-timeout 0.5
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out TIMEOUT 20)
+if(NOT rc EQUAL 1 OR NOT out MATCHES "no peer connected")
+  message(FATAL_ERROR "mbdyn_testpeer without a client: status ${rc}: ${out}")
+endif()

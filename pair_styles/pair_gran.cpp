@@ -1,5 +1,6 @@
 #include "pair_gran.h"
 
+#include "fix_contact_history.h"
 #include "fix_property_global.h"
 #include "style_registry.h"
 
@@ -8,7 +9,6 @@
 #include "error.h"
 #include "fix.h"
 #include "force.h"
-#include "group.h"
 #include "memory.h"
 #include "modify.h"
 #include "neigh_list.h"
@@ -26,6 +26,8 @@ namespace dembridge {
 using gran::Dialect;
 using gran::TangentialModel;
 
+static const char *const kHistoryFixId = "DEMBRIDGE_CONTACT_HISTORY";
+
 PairGran::PairGran(LAMMPS *lmp, const char *style_name) : Pair(lmp), style_name_(style_name)
 {
   single_enable = 0;
@@ -36,6 +38,7 @@ PairGran::PairGran(LAMMPS *lmp, const char *style_name) : Pair(lmp), style_name_
 
 PairGran::~PairGran()
 {
+  if (history_ && modify->get_fix_by_id(kHistoryFixId)) modify->delete_fix(kHistoryFixId);
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
@@ -61,19 +64,15 @@ void PairGran::apply_settings(const std::vector<std::string> &args)
   }
   const auto &c = model_.contact;
   const std::string p = "pair_style " + style_name_ + ": ";
-  // Sub-models that later issues add: refuse loudly rather than compute something else.
-  if (model_.dialect == Dialect::LammpsNumeric)
-    error->all(FLERR, p + "the LAMMPS numeric syntax (Kn Kt gamma_n gamma_t xmu dampflag) is not available yet in dembridge; "
-                      "use the LIGGGHTS syntax with fix property/global, or run without the plugin");
-  if (c.tangential == TangentialModel::History)
-    error->all(FLERR, p + "tangential history styles are not available yet in dembridge");
+  // Sub-models of the rolling/cohesion work: refuse loudly rather than compute something else.
   if (c.rolling != gran::RollingModel::Off) error->all(FLERR, p + "rolling_friction is not available yet in dembridge");
   if (c.cohesion != gran::CohesionModel::Off) error->all(FLERR, p + "cohesion is not available yet in dembridge");
   if (c.viscous) error->all(FLERR, p + "viscous is not available yet in dembridge");
   for (const auto &w : model_.warnings)
     if (comm->me == 0) error->warning(FLERR, w);
   law_ = gran::ContactLaw(c);
-  no_virial_fdotr_compute = model_.contact.history_size() > 0 ? 1 : 0;
+  // LAMMPS's own gran styles never use the f.r virial; LIGGGHTS gran/hooke allows it.
+  no_virial_fdotr_compute = (c.history_size() > 0 || model_.dialect == Dialect::LammpsNumeric) ? 1 : 0;
 }
 
 void PairGran::settings(int narg, char **arg)
@@ -86,7 +85,9 @@ void PairGran::coeff(int narg, char **arg)
 {
   if (narg != 2)
     error->all(FLERR, "pair_coeff for " + style_name_ + ": expected 'pair_coeff * *' with no coefficients "
-                      "(coefficients come from fix property/global), got " + std::to_string(narg) + " arguments");
+                      "(coefficients come from " +
+                          std::string(model_.dialect == Dialect::LammpsNumeric ? "the pair_style arguments" : "fix property/global") +
+                          "), got " + std::to_string(narg) + " arguments");
   if (!allocated) allocate();
   int ilo, ihi, jlo, jhi;
   utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
@@ -103,7 +104,7 @@ void PairGran::check_requirements()
   if (!comm->ghost_velocity)
     error->all(FLERR, p + "requires ghost atoms to store velocity; add 'comm_modify vel yes'");
   const std::string units = update->unit_style;
-  if (units != "si" && units != "cgs" && units != "lj")
+  if (model_.dialect != Dialect::LammpsNumeric && units != "si" && units != "cgs" && units != "lj")
     error->all(FLERR, p + "cannot use the non-consistent unit system '" + units + "'; use 'units si', 'cgs' or 'lj'");
   if (model_.contact.history_size() > 0 && force->newton_pair)
     error->all(FLERR, p + "contact history requires 'newton off' (newton pair off)");
@@ -121,7 +122,7 @@ int PairGran::max_type_present()
   int glo, ghi;
   MPI_Allreduce(&lo, &glo, 1, MPI_INT, MPI_MIN, world);
   MPI_Allreduce(&hi, &ghi, 1, MPI_INT, MPI_MAX, world);
-  if (ghi == 0) return atom->ntypes;  // no atoms yet: tables for every declared type
+  if (ghi == 0 || model_.dialect == Dialect::LammpsNumeric) return atom->ntypes;
   if (glo != 1)
     error->all(FLERR, "pair_style " + style_name_ + ": atom types must start from 1 for granular simulations, but the smallest type present is " +
                           std::to_string(glo));
@@ -136,10 +137,43 @@ void PairGran::compute_type_radii()
     auto &v = (atom->mask[i] & freeze_groupbit_) ? frz : dyn;
     v[atom->type[i]] = std::max(v[atom->type[i]], atom->radius[i]);
   }
+  // particles that fixes will insert later (fix pour, fix deposit) count as dynamic
+  for (Fix *f : modify->get_fix_list()) {
+    for (int t = 1; t <= n; t++) {
+      int dim = 0, itype = t;
+      auto *r = static_cast<double *>(f->extract("radius", itype));
+      if (r && dim == 0 && itype >= 0) dyn[t] = std::max(dyn[t], *r);
+    }
+  }
   maxrad_dynamic_.assign(n + 1, 0.0);
   maxrad_frozen_.assign(n + 1, 0.0);
   MPI_Allreduce(dyn.data(), maxrad_dynamic_.data(), n + 1, MPI_DOUBLE, MPI_MAX, world);
   MPI_Allreduce(frz.data(), maxrad_frozen_.data(), n + 1, MPI_DOUBLE, MPI_MAX, world);
+}
+
+const property::GlobalProperty *PairGran::find_property(const std::string &name)
+{
+  const property::GlobalProperty *fix = FixPropertyGlobal::find(lmp, name);
+  auto it = restart_properties_.find(name);
+  if (it == restart_properties_.end()) return fix;
+  if (!fix) return &it->second;
+  if (!fix->same_values(it->second) && comm->me == 0)
+    error->warning(FLERR, "pair_style " + style_name_ + ": fix property/global " + name +
+                              " redefines the value stored in the restart file; using the new definition");
+  restart_properties_.erase(it);  // the deck's definition wins from now on
+  return fix;
+}
+
+void PairGran::create_history_fix()
+{
+  const int nv = model_.contact.history_size();
+  Fix *f = modify->get_fix_by_id(kHistoryFixId);
+  if (f && static_cast<FixContactHistory *>(f)->nvalues() != nv) {
+    modify->delete_fix(kHistoryFixId);
+    f = nullptr;
+  }
+  if (!f) f = modify->add_fix(std::string(kHistoryFixId) + " all dembridge/contact/history " + std::to_string(nv));
+  history_ = static_cast<FixContactHistory *>(f);
 }
 
 void PairGran::init_style()
@@ -148,6 +182,9 @@ void PairGran::init_style()
 
   freeze_groupbit_ = 0;
   for (Fix *f : modify->get_fix_by_style("^freeze")) freeze_groupbit_ |= f->groupbit;
+  fix_rigid_ = nullptr;
+  for (Fix *f : modify->get_fix_list())
+    if (f->rigid_flag) fix_rigid_ = f;
   compute_type_radii();
 
   const int max_type = max_type_present();
@@ -155,11 +192,19 @@ void PairGran::init_style()
   const auto unit_system = units == "si" ? gran::UnitSystem::SI : units == "cgs" ? gran::UnitSystem::CGS : gran::UnitSystem::LJ;
   try {
     table_ = gran::MaterialTable::build(
-        model_, [this](const std::string &name) { return FixPropertyGlobal::find(lmp, name); }, max_type, unit_system);
+        model_, [this](const std::string &name) { return find_property(name); }, max_type, unit_system, force->nktv2p);
   } catch (const gran::MaterialError &e) {
     error->all(FLERR, e.what());
   }
+  if (model_.contact.history_size() > 0) create_history_fix();
+  // REQ_HISTORY would need LAMMPS's internal fix neigh/history; our fix keeps the history.
   neighbor->add_request(this, NeighConst::REQ_SIZE);
+}
+
+void PairGran::init_list(int id, NeighList *ptr)
+{
+  Pair::init_list(id, ptr);
+  if (history_) history_->set_list(ptr);
 }
 
 double PairGran::init_one(int i, int j)
@@ -171,6 +216,25 @@ double PairGran::init_one(int i, int j)
   const double fd = maxrad_frozen_[i] + maxrad_dynamic_[j];
   const double df = maxrad_dynamic_[i] + maxrad_frozen_[j];
   return std::max(dd, std::max(fd, df));
+}
+
+// Effective mass with the fix freeze and fix rigid rules (spec §2).
+double PairGran::effective_mass(int i, int j) const
+{
+  double mi = atom->rmass[i], mj = atom->rmass[j];
+  if (fix_rigid_) {
+    int dim;
+    auto *body = static_cast<int *>(fix_rigid_->extract("body", dim));
+    auto *masstotal = static_cast<double *>(fix_rigid_->extract("masstotal", dim));
+    if (body && masstotal) {
+      if (body[i] >= 0) mi = masstotal[body[i]];
+      if (body[j] >= 0) mj = masstotal[body[j]];
+    }
+  }
+  double meff = mi * mj / (mi + mj);
+  if (atom->mask[i] & freeze_groupbit_) meff = mj;
+  if (atom->mask[j] & freeze_groupbit_) meff = mi;
+  return meff;
 }
 
 void PairGran::compute(int eflag, int vflag)
@@ -187,13 +251,25 @@ void PairGran::compute(int eflag, int vflag)
   const double dt = update->dt;
   const bool history_update = !update->setupflag;
   const int max_type = table_.max_type();
+  const int nv = model_.contact.history_size();
 
   const int inum = list->inum;
   const int *ilist = list->ilist, *numneigh = list->numneigh;
   int **firstneigh = list->firstneigh;
+  if (history_ && !history_->list_valid())
+    error->one(FLERR, "pair_style " + style_name_ + ": contact history is not aligned with the neighbour list (internal error)");
+
+  // fix rigid bodies: body masses, looked up per pair only when such a fix exists
+  int *body = nullptr;
+  double *masstotal = nullptr;
+  if (fix_rigid_) {
+    int dim;
+    body = static_cast<int *>(fix_rigid_->extract("body", dim));
+    masstotal = static_cast<double *>(fix_rigid_->extract("masstotal", dim));
+  }
 
   gran::ContactResult res;
-  double no_history[6] = {0, 0, 0, 0, 0, 0};  // history styles are rejected in settings() until they land
+  double scratch[6] = {0, 0, 0, 0, 0, 0};
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
     const int itype = type[i];
@@ -202,16 +278,25 @@ void PairGran::compute(int eflag, int vflag)
                             " appeared after init; the material table only covers types up to " + std::to_string(max_type));
     const gran::SphereView a{x[i], v[i], omega[i], radius[i]};
     const bool ifrozen = mask[i] & freeze_groupbit_;
+    const double mi = (body && body[i] >= 0) ? masstotal[body[i]] : rmass[i];
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
     for (int jj = 0; jj < jnum; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
       const gran::SphereView b{x[j], v[j], omega[j], radius[j]};
-      // effective mass with the fix freeze rule (spec §2)
-      double meff = rmass[i] * rmass[j] / (rmass[i] + rmass[j]);
-      if (ifrozen) meff = rmass[j];
-      if (mask[j] & freeze_groupbit_) meff = rmass[i];
-      if (!law_.evaluate(a, b, meff, table_.at(itype, type[j]), no_history, history_update, dt, res)) continue;
+      double *hist = history_ ? history_->slot(i, jj) : scratch;
+      const double mj = (body && body[j] >= 0) ? masstotal[body[j]] : rmass[j];
+      double meff = mi * mj / (mi + mj);
+      if (ifrozen) meff = mj;
+      if (mask[j] & freeze_groupbit_) meff = mi;
+      if (!law_.evaluate(a, b, meff, table_.at(itype, type[j]), hist, history_update, dt, res)) {
+        if (history_) {  // 2.x and LAMMPS semantics: the springs vanish when the pair separates
+          history_->touched(i, jj) = 0;
+          for (int k = 0; k < nv; k++) hist[k] = 0.0;
+        }
+        continue;
+      }
+      if (history_) history_->touched(i, jj) = 1;
       for (int k = 0; k < 3; k++) {
         f[i][k] += res.F[k];
         torque[i][k] += res.Ti[k];
@@ -227,35 +312,67 @@ void PairGran::compute(int eflag, int vflag)
                      x[i][2] - x[j][2]);
     }
   }
+  if (history_) history_->mark_updated();
   if (vflag_fdotr) virial_fdotr_compute();
 }
 
-// Restart: the settings words; coefficients come from fix property/global.
+// Restart: the settings words, then the material properties the model used (LIGGGHTS loses them).
 void PairGran::write_restart(FILE *fp)
 {
-  const int n = settings_args_.size();
-  fwrite(&n, sizeof(int), 1, fp);
-  for (const auto &w : settings_args_) {
-    const int len = w.size() + 1;
-    fwrite(&len, sizeof(int), 1, fp);
-    fwrite(w.c_str(), sizeof(char), len, fp);
+  auto put_int = [fp](int v) { fwrite(&v, sizeof(int), 1, fp); };
+  auto put_str = [&](const std::string &w) {
+    put_int(int(w.size()) + 1);
+    fwrite(w.c_str(), sizeof(char), w.size() + 1, fp);
+  };
+  put_int(int(settings_args_.size()));
+  for (const auto &w : settings_args_) put_str(w);
+  std::vector<const property::GlobalProperty *> props;
+  for (const auto &name : table_.used_properties()) {
+    const property::GlobalProperty *p = FixPropertyGlobal::find(lmp, name);
+    if (!p) {
+      auto it = restart_properties_.find(name);
+      if (it != restart_properties_.end()) p = &it->second;
+    }
+    if (p) props.push_back(p);
+  }
+  put_int(int(props.size()));
+  for (const auto *p : props) {
+    put_str(p->name());
+    put_int(int(p->style()));
+    put_int(p->ncols());
+    put_int(int(p->values().size()));
+    fwrite(p->values().data(), sizeof(double), p->values().size(), fp);
   }
 }
 
 void PairGran::read_restart(FILE *fp)
 {
-  int n = 0;
-  if (comm->me == 0) utils::sfread(FLERR, &n, sizeof(int), 1, fp, nullptr, error);
-  MPI_Bcast(&n, 1, MPI_INT, 0, world);
-  std::vector<std::string> args;
-  for (int k = 0; k < n; k++) {
-    int len = 0;
-    if (comm->me == 0) utils::sfread(FLERR, &len, sizeof(int), 1, fp, nullptr, error);
-    MPI_Bcast(&len, 1, MPI_INT, 0, world);
+  const bool me0 = comm->me == 0;
+  auto get_int = [&]() {
+    int v = 0;
+    if (me0) utils::sfread(FLERR, &v, sizeof(int), 1, fp, nullptr, error);
+    MPI_Bcast(&v, 1, MPI_INT, 0, world);
+    return v;
+  };
+  auto get_str = [&]() {
+    const int len = get_int();
     std::vector<char> buf(len);
-    if (comm->me == 0) utils::sfread(FLERR, buf.data(), sizeof(char), len, fp, nullptr, error);
+    if (me0) utils::sfread(FLERR, buf.data(), sizeof(char), len, fp, nullptr, error);
     MPI_Bcast(buf.data(), len, MPI_CHAR, 0, world);
-    args.emplace_back(buf.data());
+    return std::string(buf.data());
+  };
+  std::vector<std::string> args(get_int());
+  for (auto &w : args) w = get_str();
+  const int nprops = get_int();
+  restart_properties_.clear();
+  for (int k = 0; k < nprops; k++) {
+    const std::string name = get_str();
+    const auto style = static_cast<property::Style>(get_int());
+    const int ncols = get_int();
+    std::vector<double> values(get_int());
+    if (me0) utils::sfread(FLERR, values.data(), sizeof(double), values.size(), fp, nullptr, error);
+    MPI_Bcast(values.data(), int(values.size()), MPI_DOUBLE, 0, world);
+    restart_properties_.emplace(name, property::GlobalProperty::from_parts(name, style, ncols, values));
   }
   settings_args_ = args;
   apply_settings(args);
@@ -264,14 +381,24 @@ void PairGran::read_restart(FILE *fp)
     for (int j = i; j <= atom->ntypes; j++) setflag[i][j] = 1;
 }
 
-// One creator per style name: the name selects the dialect and defaults.
+// One creator per style name: the name selects the model and the dialect.
 template <const char *Name> static void *create_pair(void *lmp)
 {
   return new PairGran(static_cast<LAMMPS *>(lmp), Name);
 }
 
-static constexpr char kGranHooke[] = "gran/hooke";
-static RegisterStyle reg_gran_hooke("pair", kGranHooke, "LIGGGHTS-compatible hooke, no tangential history",
-                                    create_pair<kGranHooke>);
+#define DEMBRIDGE_PAIR(var, name, info) \
+  static constexpr char var[] = name;   \
+  static RegisterStyle reg_##var("pair", var, info, create_pair<var>)
+
+DEMBRIDGE_PAIR(kGranHooke, "gran/hooke", "LIGGGHTS-compatible hooke, no tangential history (also LAMMPS numeric syntax)");
+DEMBRIDGE_PAIR(kGranHookeHistory, "gran/hooke/history", "LIGGGHTS-compatible hooke with shear history (also LAMMPS numeric syntax)");
+DEMBRIDGE_PAIR(kGranHertzHistory, "gran/hertz/history", "LIGGGHTS-compatible hertz with shear history (also LAMMPS numeric syntax)");
+DEMBRIDGE_PAIR(kGranHookeStiffness, "gran/hooke/stiffness", "LIGGGHTS-compatible hooke/stiffness, no history");
+DEMBRIDGE_PAIR(kGranHookeHistoryStiffness, "gran/hooke/history/stiffness", "LIGGGHTS-compatible hooke/stiffness with shear history");
+DEMBRIDGE_PAIR(kGranHertzHistoryStiffness, "gran/hertz/history/stiffness", "LIGGGHTS-compatible hertz/stiffness with shear history");
+DEMBRIDGE_PAIR(kGranHookeHistorySimple, "gran/hooke/history/simple", "alias of gran/hooke/history/stiffness");
+DEMBRIDGE_PAIR(kGranHertzHistorySimple, "gran/hertz/history/simple", "alias of gran/hertz/history/stiffness");
+DEMBRIDGE_PAIR(kGran, "gran", "LIGGGHTS 3.x syntax: gran model M tangential T ...");
 
 }  // namespace dembridge

@@ -3,16 +3,20 @@
 // (materials/), the syntax the ModelDescription (syntax/).
 #pragma once
 
+#include "fix.h"
 #include "pair.h"
 
 #include "contact_law.h"
 #include "material_table.h"
 #include "model_syntax.h"
 
+#include <map>
 #include <string>
 #include <vector>
 
 namespace dembridge {
+
+class FixContactHistory;
 
 class PairGran : public LAMMPS_NS::Pair {
  public:
@@ -24,6 +28,7 @@ class PairGran : public LAMMPS_NS::Pair {
   void coeff(int narg, char **arg) override;
   void init_style() override;
   double init_one(int i, int j) override;
+  void init_list(int id, LAMMPS_NS::NeighList *ptr) override;
   void write_restart(FILE *fp) override;
   void read_restart(FILE *fp) override;
 
@@ -35,12 +40,26 @@ class PairGran : public LAMMPS_NS::Pair {
   gran::MaterialTable table_;
   std::vector<double> maxrad_dynamic_, maxrad_frozen_;  // per type, for the cutoff
   int freeze_groupbit_ = 0;
+  FixContactHistory *history_ = nullptr;
+  LAMMPS_NS::Fix *fix_rigid_ = nullptr;  // body masses replace particle masses (spec §2)
+  // Material properties kept in the restart file; a fix property/global of the same name wins.
+  std::map<std::string, property::GlobalProperty> restart_properties_;
 
+  const property::GlobalProperty *find_property(const std::string &name);
+  void create_history_fix();
   void allocate();
   void check_requirements();
   int max_type_present();
   void compute_type_radii();
   void apply_settings(const std::vector<std::string> &args);
+
+ public:
+  // Read access for the per-contact compute (never mutates history).
+  const gran::ContactLaw &law() const { return law_; }
+  const gran::MaterialTable &table() const { return table_; }
+  FixContactHistory *history() const { return history_; }
+  double effective_mass(int i, int j) const;
+  LAMMPS_NS::NeighList *neighbor_list() const { return list; }
 };
 
 }  // namespace dembridge

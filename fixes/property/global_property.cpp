@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 namespace dembridge::property {
@@ -100,6 +101,19 @@ GlobalProperty GlobalProperty::parse(const std::vector<std::string> &args)
     }
   }
   return p;
+}
+
+GlobalProperty GlobalProperty::from_parts(const std::string &name, Style style, int ncols, const std::vector<double> &values)
+{
+  static const char *words[] = {"scalar", "vector", "peratomtype", "matrix", "peratomtypepair"};
+  std::vector<std::string> args{name, words[int(style)]};
+  if (style == Style::Matrix || style == Style::PerAtomTypePair) args.push_back(std::to_string(ncols));
+  char buf[32];
+  for (double v : values) {
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    args.emplace_back(buf);
+  }
+  return parse(args);
 }
 
 void GlobalProperty::require(Kind want, int max_type, const std::string &caller) const

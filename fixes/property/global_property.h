@@ -24,6 +24,9 @@ class GlobalProperty {
   // args: the words after "fix ID group property/global", i.e. NAME STYLE [ncols] values...
   static GlobalProperty parse(const std::vector<std::string> &args);
 
+  // Rebuilds a property from its stored parts (restart files); validates like parse().
+  static GlobalProperty from_parts(const std::string &name, Style style, int ncols, const std::vector<double> &values);
+
   const std::string &name() const { return name_; }
   Style style() const { return style_; }
   Kind kind() const;

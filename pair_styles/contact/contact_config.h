@@ -25,6 +25,9 @@ struct ContactConfig {
   // the Coulomb check, the del-based force expressions, optional limit_damping.
   bool lammps_formulation = false;
   bool limit_damping = false;
+  // LIGGGHTS 2.x expressions where 3.8 rewrote them (same maths, other rounding, spec §11):
+  // hooke γn = sqrt(4 m* kn / (1 + (π/ln e)²)) and the shear projection (s·del)/rsq · del.
+  bool legacy_2x_expressions = false;
 
   bool rolling_needs_history() const
   {

@@ -4,20 +4,13 @@
 
 #include "contact_config.h"
 #include "contact_geometry.h"
+#include "contact_result.h"
 #include "normal_models.h"
 #include "pair_coeffs.h"
+#include "lammps_models.h"
 #include "tangential_models.h"
 
 namespace dembridge::gran {
-
-struct ContactResult {
-  double F[3];   // total force on i (on j: -F)
-  double Ti[3];  // torque on i
-  double Tj[3];  // torque on j
-  double Fn;     // normal force scalar along n (after damping and cohesion)
-  double Ft[3];  // tangential force on i
-  double delta;  // overlap
-};
 
 class ContactLaw {
  public:
@@ -36,8 +29,9 @@ class ContactLaw {
 inline bool ContactLaw::evaluate(const SphereView &a, const SphereView &b, double meff, const PairCoeffs &pc,
                                  double *history, bool history_update, double dt, ContactResult &out) const
 {
+  if (cfg_.lammps_formulation) return evaluate_lammps_gran(cfg_, a, b, meff, pc, history, history_update, dt, out);
   ContactGeometry g;
-  if (!make_geometry(a, b, !cfg_.lammps_formulation, g)) return false;
+  if (!make_geometry(a, b, true, g)) return false;
   const NormalCoefficients c = normal_coefficients(cfg_, pc, g, meff);
 
   double Fn = -c.gamman * g.vn + c.kn * g.delta;
@@ -50,7 +44,9 @@ inline bool ContactLaw::evaluate(const SphereView &a, const SphereView &b, doubl
   switch (cfg_.tangential) {
     case TangentialModel::None: Ft[0] = Ft[1] = Ft[2] = 0.0; break;
     case TangentialModel::NoHistory: tangential_no_history(g, c.gammat, Ft_max, Ft); break;
-    case TangentialModel::History: tangential_history(g, c.kt, c.gammat, Ft_max, dt, history_update, history, Ft); break;
+    case TangentialModel::History:
+      tangential_history(g, c.kt, c.gammat, Ft_max, dt, history_update, cfg_.legacy_2x_expressions, history, Ft);
+      break;
   }
 
   double tor[3];

@@ -11,9 +11,11 @@ struct NormalCoefficients {
   double kn, kt, gamman, gammat;  // absolute: force/length and force*time/length
 };
 
-// γn of the hooke model from ln e (3.8 form: sqrt(4 m* kn ln²e / (ln²e + π²)), spec §5.1).
-inline double hooke_gamma(double meff, double kn, double lnE)
+// γn of the hooke model from ln e (spec §5.1): 3.8 form sqrt(4 m* kn ln²e / (ln²e + π²)),
+// 2.x form sqrt(4 m* kn / (1 + (π/ln e)²)); equal up to rounding.
+inline double hooke_gamma(double meff, double kn, double lnE, bool form_2x)
 {
+  if (form_2x) return std::sqrt(4. * meff * kn / (1. + (kPi / lnE) * (kPi / lnE)));
   const double lsq = lnE * lnE;
   return std::sqrt(4. * meff * kn * lsq / (lsq + kPi * kPi));
 }
@@ -28,7 +30,7 @@ inline NormalCoefficients normal_coefficients(const ContactConfig &cfg, const Pa
       const double V = pc.char_vel;
       c.kn = 16. / 15. * sqrtval * pc.Yeff * std::pow(15. * meff * V * V / (16. * sqrtval * pc.Yeff), 0.2);
       c.kt = cfg.kt_to_kn_user ? c.kn * 0.285714286 : c.kn;
-      c.gamman = hooke_gamma(meff, c.kn, pc.lnE);
+      c.gamman = hooke_gamma(meff, c.kn, pc.lnE, cfg.legacy_2x_expressions);
       c.gammat = c.gamman;
       break;
     }

@@ -16,12 +16,17 @@ inline void tangential_no_history(const ContactGeometry &g, double gammat, doubl
 // Shear history, LIGGGHTS rule (§7.1): damping outside the Coulomb check, none while sliding,
 // spring truncated to kt|s| = μ|Fn|. `update` is false in the setup pass (history frozen).
 inline void tangential_history(const ContactGeometry &g, double kt, double gammat, double Ft_max, double dt,
-                               bool update, double *shear, double *Ft)
+                               bool update, bool projection_2x, double *shear, double *Ft)
 {
   if (update) {
     for (int k = 0; k < 3; ++k) shear[k] += g.vtr[k] * dt;
-    const double sn = dot3(shear, g.n);
-    for (int k = 0; k < 3; ++k) shear[k] -= sn * g.n[k];
+    if (projection_2x) {  // 2.x: (s·del)/rsq · del
+      const double rsht = dot3(shear, g.del) * (1.0 / g.rsq);
+      for (int k = 0; k < 3; ++k) shear[k] -= rsht * g.del[k];
+    } else {
+      const double sn = dot3(shear, g.n);
+      for (int k = 0; k < 3; ++k) shear[k] -= sn * g.n[k];
+    }
   }
   const double shrmag = len3(shear);
   for (int k = 0; k < 3; ++k) Ft[k] = -(kt * shear[k]);

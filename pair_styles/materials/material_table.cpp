@@ -48,7 +48,8 @@ bool uses_material(NormalModel n) { return n == NormalModel::Hooke || n == Norma
 
 }  // namespace
 
-MaterialTable MaterialTable::build(const ModelDescription &model, const PropertyLookup &lookup, int max_type, UnitSystem units)
+MaterialTable MaterialTable::build(const ModelDescription &model, const PropertyLookup &lookup, int max_type, UnitSystem units,
+                                   double nktv2p)
 {
   MaterialTable t;
   t.max_type_ = max_type;
@@ -65,8 +66,8 @@ MaterialTable MaterialTable::build(const ModelDescription &model, const Property
     for (int i = 1; i <= max_type; ++i)
       for (int j = 1; j <= max_type; ++j) {
         PairCoeffs &c = t.table_[i * (max_type + 1) + j];
-        c.kn = model.numeric.kn;
-        c.kt = model.numeric.kt;
+        c.kn = model.numeric.kn / nktv2p;
+        c.kt = model.numeric.kt / nktv2p;
         c.gamman = model.numeric.gamman;
         c.gammat = model.numeric.gammat;
         c.mu = model.numeric.xmu;

@@ -26,7 +26,9 @@ class MaterialTable {
  public:
   MaterialTable() = default;
   // max_type: the largest atom type present; types are 1..max_type.
-  static MaterialTable build(const ModelDescription &model, const PropertyLookup &lookup, int max_type, UnitSystem units);
+  // nktv2p: LAMMPS force conversion; the numeric dialect divides Kn, Kt by it as the built-ins do.
+  static MaterialTable build(const ModelDescription &model, const PropertyLookup &lookup, int max_type, UnitSystem units,
+                             double nktv2p = 1.0);
 
   int max_type() const { return max_type_; }
   const PairCoeffs &at(int itype, int jtype) const { return table_[itype * (max_type_ + 1) + jtype]; }

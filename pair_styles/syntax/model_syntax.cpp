@@ -76,6 +76,7 @@ ModelDescription parse_legacy(const std::string &style, const std::vector<std::s
   d.contact.normal = info.normal;
   d.contact.tangential = info.tangential;
   d.contact.tangential_reduce = true;  // 2.x: cohesion always inside the Coulomb/epsd limits
+  d.contact.legacy_2x_expressions = true;
   for (std::size_t k = 0; k < args.size(); k += 2) {
     const std::string &key = args[k];
     if (k + 1 >= args.size())

@@ -83,18 +83,25 @@ Matrix3 matrix_from_wire_column_major(const double* w) {
 }
 
 Matrix3 matrix_from_orientation_vector(const double* t) {
-  // Rodrigues: R = I + sin(a)/a [t]x + (1 - cos(a))/a^2 [t]x^2, with series near a = 0.
-  const double a2 = t[0] * t[0] + t[1] * t[1] + t[2] * t[2];
-  const double a = std::sqrt(a2);
-  double s, c;
+  // Rodrigues with the unit axis n = t / a: R = I + sin(a) [n]x + (1 - cos(a)) [n]x^2.
+  // Normalising first keeps every term finite even for huge angles (found by the fuzzer:
+  // a^2 overflowed to inf and gave NaN); below 1e-6 rad the series of sin(a)/a is used.
+  const double a = std::hypot(t[0], t[1], t[2]);
+  double x, y, z, s, c;
   if (a < 1e-6) {
-    s = 1.0 - a2 / 6.0;
-    c = 0.5 - a2 / 24.0;
+    const double a2 = a * a;
+    x = t[0];
+    y = t[1];
+    z = t[2];
+    s = 1.0 - a2 / 6.0;   // sin(a) / a, multiplies the unnormalised t
+    c = 0.5 - a2 / 24.0;  // (1 - cos(a)) / a^2
   } else {
-    s = std::sin(a) / a;
-    c = (1.0 - std::cos(a)) / a2;
+    x = t[0] / a;
+    y = t[1] / a;
+    z = t[2] / a;
+    s = std::sin(a);
+    c = 1.0 - std::cos(a);
   }
-  const double x = t[0], y = t[1], z = t[2];
   return {1.0 - c * (y * y + z * z), -s * z + c * x * y, s * y + c * x * z,
           s * z + c * x * y, 1.0 - c * (x * x + z * z), -s * x + c * y * z,
           -s * y + c * x * z, s * x + c * y * z, 1.0 - c * (x * x + y * y)};

@@ -192,3 +192,25 @@ TEST(MessageRoundTrip, EncodeLoadsRejectsWrongSizesAndNonFinite) {
   EXPECT_THROW(encode_loads(c, Command::RegularDataAndGotoNextStep, nan_loads), MalformedMessageError);
   EXPECT_THROW(encode_loads(c, Command::GotoNextStep, Loads(c)), std::invalid_argument);
 }
+
+TEST(MessageRoundTrip, HugeOrientationVectorStillGivesARotation) {
+  // Regression (found by the fuzzer): |theta|^2 overflowed and the matrix became NaN.
+  const double theta[3] = {3e281, 3e281, 3e281};
+  const Matrix3 R = matrix_from_orientation_vector(theta);
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) {
+      double dot = 0;
+      for (int j = 0; j < 3; ++j) dot += R[3 * j + a] * R[3 * j + b];
+      EXPECT_NEAR(dot, a == b ? 1.0 : 0.0, 1e-12);
+    }
+  // And the small-angle branch joins the exact formula continuously.
+  const double n[3] = {0.6 / 0.877496, -0.5 / 0.877496, 0.4 / 0.877496};
+  double below[3], above[3];
+  for (int k = 0; k < 3; ++k) {
+    below[k] = n[k] * 0.99999e-6;
+    above[k] = n[k] * 1.00001e-6;
+  }
+  const Matrix3 A = matrix_from_orientation_vector(below), B = matrix_from_orientation_vector(above);
+  EXPECT_NEAR(A[3 * 1 + 0], n[2] * 1e-6, 1e-10);  // R21 = sin(a) n_z
+  for (int i = 0; i < 9; ++i) EXPECT_NEAR(A[i], B[i], 1e-10);
+}

@@ -12,7 +12,7 @@ SpringTable SpringTable::from_pairs(const std::vector<double>& xy, const char* w
                                 std::to_string(xy.size()));
   SpringTable t;
   for (std::size_t i = 0; i < xy.size(); i += 2) {
-    if (!std::isfinite(xy[i + 1]) || std::isnan(xy[i]))
+    if (!std::isfinite(xy[i]) || !std::isfinite(xy[i + 1]))  // an infinite x would give 0*inf = NaN values
       throw std::invalid_argument(std::string(what) + ": non-finite value at point " + std::to_string(i / 2 + 1));
     if (i > 0 && !(xy[i] > xy[i - 2]))
       throw std::invalid_argument(std::string(what) + ": x values must be strictly increasing (point " +

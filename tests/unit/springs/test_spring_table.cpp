@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cfloat>
+#include <cmath>
 #include <stdexcept>
 
 #include "SpringTable.h"
@@ -71,6 +72,8 @@ TEST(SpringTable, RejectsOddLengthShortAndNonIncreasingTables) {
   EXPECT_THROW(SpringTable::from_pairs({0.0, 1.0}), std::invalid_argument);
   EXPECT_THROW(SpringTable::from_pairs({0.0, 1.0, 0.0, 2.0}), std::invalid_argument);
   EXPECT_THROW(SpringTable::from_pairs({0.0, 1.0, 1.0, 2.0, 0.5, 3.0}), std::invalid_argument);
+  EXPECT_THROW(SpringTable::from_pairs({-INFINITY, 0.0, INFINITY, 0.0}), std::invalid_argument);
+  EXPECT_THROW(SpringTable::from_pairs({0.0, NAN, 1.0, 0.0}), std::invalid_argument);
   try {
     SpringTable::from_pairs({0.0, 1.0, 2.0}, "SPRING 7 unload");
     FAIL();

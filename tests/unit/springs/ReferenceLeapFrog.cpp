@@ -39,8 +39,6 @@ Mat3 expmap(const V3& th, bool q3) {
   return Mat3::Identity() + a * S + b * (TT - t2 * Mat3::Identity());
 }
 
-ds::SpringState initial_state(const ds::SpringLaw& law) { return ds::SpringState::initial(law); }
-
 Spring LeapFrog::make_spring(int part1, const V3& P1, int part2, const V3& P2, ds::DirectionMode mode, const Vec3& d,
                              const ds::SpringLaw& law) {
   Spring s;

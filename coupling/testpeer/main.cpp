@@ -24,6 +24,7 @@ const char* kUsage =
     "  --steps K (default 10)   --dt DT (default 1e-3)\n"
     "  --mass M  --inertia J  --gravity gx,gy,gz\n"
     "  --x0 x,y,z  --v0 vx,vy,vz   initial state of the next node (repeat per node)\n"
+    "  --offset ox,oy,oz        offset of the next node's point, node frame (repeat per node)\n"
     "  --max-iterations N  --derivatives-max-iterations N   (tight)\n"
     "  --accept-timeout S  --io-timeout S   (default 30 each)\n"
     "  --fault none|garbage-command|short-then-close|short-then-stall|nan|die  --fault-message K\n"
@@ -84,6 +85,7 @@ int main(int argc, char** argv) {
     else if (a == "--gravity") s.model.gravity = parse_v3(value());
     else if (a == "--x0") x0.push_back(parse_v3(value()));
     else if (a == "--v0") v0.push_back(parse_v3(value()));
+    else if (a == "--offset") s.model.offset.push_back(parse_v3(value()));
     else if (a == "--max-iterations") s.max_iterations = std::stoi(value());
     else if (a == "--derivatives-max-iterations") s.derivatives_max_iterations = std::stoi(value());
     else if (a == "--accept-timeout") s.accept_timeout_s = std::stod(value());

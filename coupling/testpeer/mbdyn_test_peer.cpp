@@ -131,7 +131,7 @@ class PeerRun {
     std::vector<NodeState> nodes;
     const Mat3 RrT = transpose(ref_.R);
     for (std::size_t i = 0; i < bodies.size(); ++i) {
-      NodeState n = model_.node_of(i, bodies[i], s_.node_labels[i]);
+      NodeState n = model_.point_of(i, bodies[i], s_.node_labels[i]);
       if (s_.shape.reference_node) {
         // Relative to the (static) reference node, in its frame (spec §4.3).
         V3 dx;
@@ -155,6 +155,7 @@ class PeerRun {
   }
 
   void send_kinematics(std::uint8_t cmd, const std::vector<BodyState>& bodies) {
+    last_sent_ = bodies;
     std::vector<NodeState> nodes = wire_nodes(bodies);
     const bool faulty = s_.fault != Fault::None && out_.kinematics_sent == s_.fault_message;
     if (faulty && s_.fault == Fault::DieMidRun) {
@@ -231,7 +232,8 @@ class PeerRun {
         mo = rotate_vector(ref_.R, mo);
       }
       a.force.push_back(f);
-      a.moment_z.push_back(rotates() ? mo[2] : 0.0);
+      // Without orientation there are no moments at all (spec §4.4).
+      a.moment_z.push_back(rotates() ? model_.node_moment_z(i, last_sent_[i], f, mo) : 0.0);
     }
     out_.last_loads = m;
     return a;
@@ -325,6 +327,7 @@ class PeerRun {
   PeerOutcome out_;
   NodeState ref_;
   Answer loads_;
+  std::vector<BodyState> last_sent_;  // pose the next loads answer refers to
 };
 
 }  // namespace

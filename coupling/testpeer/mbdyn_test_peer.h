@@ -36,7 +36,7 @@ struct PeerSetup {
   CouplingMode coupling = CouplingMode::Loose;
   int steps = 10;
   double dt = 1e-3;
-  OscillatorParameters model;  // initial states default to a fixed, non-trivial set
+  OscillatorParameters model;  // initial states default to a fixed, non-trivial set; offsets 0
   int max_iterations = 20;             // tight: exchanges per step before MBDyn gives up
   int derivatives_max_iterations = 10;  // tight: t0 exchanges (spec T1)
   double accept_timeout_s = 10.0;

@@ -4,6 +4,7 @@ namespace dembridge::mbdyn::testpeer {
 
 OscillatorModel::OscillatorModel(const OscillatorParameters& p) : p_(p), state_(p.initial) {
   p_.tilt.resize(state_.size(), 0.0);
+  p_.offset.resize(state_.size(), V3{0, 0, 0});
 }
 
 void OscillatorModel::set_loads_at_current_state(const std::vector<V3>& force, const std::vector<double>& mz) {
@@ -45,16 +46,33 @@ std::vector<BodyState> OscillatorModel::step(double dt, const std::vector<V3>& f
   return out;
 }
 
-NodeState OscillatorModel::node_of(std::size_t i, const BodyState& b, std::uint32_t label) const {
+namespace {
+V3 cross(const V3& a, const V3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+}  // namespace
+
+NodeState OscillatorModel::point_of(std::size_t i, const BodyState& b, std::uint32_t label) const {
   NodeState n;
   n.label = label;
-  n.x = b.x;
-  n.v = b.v;
-  n.a = b.a;
   n.R = multiply(rotation_about_z(b.theta), rotation_about_x(p_.tilt[i]));
   n.w = {0, 0, b.theta_dot};
   n.wdot = {0, 0, b.theta_ddot};
+  const V3 arm = rotate_vector(n.R, p_.offset[i]);
+  const V3 w_arm = cross(n.w, arm);
+  const V3 wdot_arm = cross(n.wdot, arm);
+  const V3 w_w_arm = cross(n.w, w_arm);
+  for (int k = 0; k < 3; ++k) {
+    n.x[k] = b.x[k] + arm[k];
+    n.v[k] = b.v[k] + w_arm[k];
+    n.a[k] = b.a[k] + wdot_arm[k] + w_w_arm[k];
+  }
   return n;
+}
+
+double OscillatorModel::node_moment_z(std::size_t i, const BodyState& b, const V3& f, const V3& m) const {
+  const Mat3 R = multiply(rotation_about_z(b.theta), rotation_about_x(p_.tilt[i]));
+  return m[2] + cross(rotate_vector(R, p_.offset[i]), f)[2];
 }
 
 }  // namespace dembridge::mbdyn::testpeer

@@ -21,6 +21,7 @@ struct OscillatorParameters {
   V3 gravity{0, 0, 0};
   std::vector<BodyState> initial;  // one per node
   std::vector<double> tilt;        // per node: R = Rz(theta) * Rx(tilt), so all 3 axes vary
+  std::vector<V3> offset;          // per node, node frame: MBDyn's `offset` of the point
 };
 
 class OscillatorModel {
@@ -36,8 +37,12 @@ class OscillatorModel {
   // Trapezoidal step from the converged state with the given end-of-step loads.
   std::vector<BodyState> step(double dt, const std::vector<V3>& force, const std::vector<double>& moment_z) const;
   void accept(const std::vector<BodyState>& s) { state_ = s; }
-  // Node kinematics (global frame) for the wire.
-  NodeState node_of(std::size_t i, const BodyState& b, std::uint32_t label) const;
+  // Kinematics of node i's point (global frame) for the wire, at its offset (spec §4.3):
+  // x = x_n + R o, v = v_n + w x R o, a = a_n + wdot x R o + w x (w x R o); R, w, wdot = node's.
+  NodeState point_of(std::size_t i, const BodyState& b, std::uint32_t label) const;
+  // z moment on the node from a load (f, m) at the point: m + (R o) x f, with R o taken at the
+  // pose b the load was computed for (spec §4.3).
+  double node_moment_z(std::size_t i, const BodyState& b, const V3& f, const V3& m) const;
 
  private:
   OscillatorParameters p_;

@@ -62,6 +62,9 @@ class PeerSession {
   // send 5 to MBDyn and throw; EOF/reset without a 5 throws PeerClosedError.
   Received receive();
   const Kinematics& kinematics() const { return kinematics_; }
+  // The raw payload of the last kinematics message (host byte order, spec §2): MPI ranks can
+  // receive it by broadcast and call decode_kinematics(config(), command, ...) themselves (P5).
+  const std::vector<std::uint8_t>& raw_payload() const { return payload_; }
 
   // Answers the last kinematics. converged=true sends 6 (mandatory in loose, spec P9);
   // converged=false sends 2 (tight only: MBDyn sends another iterate). Labels are echoed

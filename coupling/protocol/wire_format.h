@@ -2,6 +2,7 @@
 // Everything on the wire is host-native: uint8 commands, uint32 flags/counts/labels, IEEE doubles.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -31,6 +32,10 @@ constexpr std::uint32_t RotationMask = 0x0F00;
 // Reference-node rotation bits: set by libmbc, ignored by `external structural` (spec §3).
 constexpr std::uint32_t ReferenceRotationMask = 0xF000;
 }  // namespace flag
+
+// MBDyn 1.7.3 reads a load payload with one recv(); 48 000 B arrived whole over Unix and TCP,
+// larger payloads were split and failed (spec P2). Warn users above this.
+constexpr std::size_t kLargestVerifiedLoadsPayload = 48000;
 
 // Orientation formats; the values are the negotiation bits (spec §3).
 enum class Rotation : std::uint32_t {

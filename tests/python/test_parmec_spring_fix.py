@@ -1,0 +1,306 @@
+"""fix parmec/spring (issue 5 glue; doc/fix_parmec_spring.md): oracle and closed-form dynamics, MPI
+decomposition independence, restart continuation and bad input. Plugin from $DEMBRIDGE_PLUGIN."""
+import csv
+import math
+import os
+import subprocess
+
+import pytest
+
+from dembridge import lmp_executable, mpiexec, new_lammps, plugin_path, shared_dir
+
+ORACLE = os.path.join(shared_dir(), "oracle", "parmec")
+COLS = ["id", "LENGTH", "STROKE", "F", "SF", "FF", "SS"]
+
+
+def read_dump(path):
+    """{timestep: [rows of floats]} of a LAMMPS text dump (atom or local)."""
+    out, step, lines = {}, None, open(path).read().split("\n")
+    i = 0
+    while i < len(lines):
+        if lines[i].startswith("ITEM: TIMESTEP"):
+            step = int(lines[i + 1])
+            i += 2
+        elif lines[i].startswith("ITEM: NUMBER OF"):
+            n = int(lines[i + 1])
+            i += 2
+        elif lines[i].startswith("ITEM: ATOMS") or lines[i].startswith("ITEM: ENTRIES"):
+            out[step] = [[float(v) for v in l.split()] for l in lines[i + 1:i + 1 + n]]
+            i += 1 + n
+        else:
+            i += 1
+    return out
+
+
+def run_lines(lines, lmp=None):
+    own = lmp is None
+    lmp = lmp or new_lammps()
+    try:
+        for line in lines:
+            lmp.command(line)
+    finally:
+        if own:
+            lmp.close()
+
+
+def rel(a, b):
+    scale = max(abs(v) for v in b) or 1.0
+    return max(abs(x - y) for x, y in zip(a, b)) / scale
+
+
+# ------------------------------------------------------------------------------------------------
+# (a) analytic_linear_spring: point mass m = 2 on a CONSTANT (1,0,0) spring k = 100 to the origin
+
+def meta():
+    import json
+    return json.load(open(os.path.join(ORACLE, "analytic_linear_spring", "meta.json")))
+
+
+def linear_spring_deck(tmp, case, h, steps, start="lammps", x0=0.0):
+    m = meta()
+    k, c, zeta, v0 = m["k"], m["c"], m["zeta"], m["v0"]
+    law = {"ratio": f"ratio {zeta}", "table": "dashpot D", "undamped": ""}[case]
+    return [
+        "units si", "atom_style sphere", "boundary f f f",
+        "region box block -10 10 -10 10 -10 10", "create_box 1 box",
+        "create_atoms 1 single 0 0 0 units box",
+        "set atom 1 diameter 0.5", f"set atom 1 mass {m['m']}",
+        f"velocity all set {v0} 0 0 units box",
+        f"fix S all parmec/spring start {start} table K -1 {-k} 1 {k} table D -1 {-c!r} 1 {c!r} "
+        f"spring 1 1 centre -1 0 0 0 K {law} direction 1 0 0",
+        # the reference configuration is the one at the fix command; the Parmec start then moves
+        # the atom back by h/2 v0 (x_{1/2} = x0 + h/2 v0 after the first drift)
+        f"set atom 1 x {x0!r}",
+        "fix I all nve/sphere", f"timestep {h!r}",
+        f"dump L all local 1 {tmp}/loc.dump f_S[1] f_S[2] f_S[3] f_S[4] f_S[5] f_S[6] f_S[7]",
+        "dump_modify L format float %.17g",
+        f"dump A all custom 1 {tmp}/atom.dump id x vx",
+        "dump_modify A format float %.17g",
+        f"run {steps}",
+    ]
+
+
+def oracle_rows(case):
+    with open(os.path.join(ORACLE, "analytic_linear_spring", f"case_{case}.csv")) as f:
+        r = csv.DictReader(f)
+        return [{k: float(v) for k, v in row.items()} for row in r]
+
+
+@pytest.mark.parametrize("case", ["ratio", "table", "undamped"])
+def test_oracle_linear_spring_parmec_start(tmp_path, case):
+    """'start parmec' + x0 - h/2 v0 makes velocity-Verlet the same recurrence as Parmec's leap-frog
+    (kernel doc §4): oracle row n (n >= 1) = LAMMPS step n+1 for spring values, step n+2 for PX."""
+    m = meta()
+    h, rows = m["step"], oracle_rows(case)
+    nsteps = len(rows) + 1
+    run_lines(linear_spring_deck(tmp_path, case, h, nsteps, start="parmec", x0=-0.5 * h * m["v0"]))
+    loc, atoms = read_dump(tmp_path / "loc.dump"), read_dump(tmp_path / "atom.dump")
+    got = {c: [] for c in ["LENGTH", "STROKE", "F", "SF", "PX"]}
+    ref = {c: [] for c in got}
+    for n in range(1, len(rows)):
+        for c in ["LENGTH", "STROKE", "F", "SF"]:
+            got[c].append(loc[n + 1][0][COLS.index(c)])
+            ref[c].append(rows[n]["spr0_" + c])
+        got["PX"].append(atoms[n + 2][0][1])
+        ref["PX"].append(rows[n]["PX"])
+    errs = {c: rel(got[c], ref[c]) for c in got}
+    print(f"[agreement] analytic_linear_spring {case} parmec start:",
+          " ".join(f"{c} {e:.2e}" for c, e in errs.items()))
+    for c, e in errs.items():
+        assert e <= 1e-12, (c, e)
+
+
+def closed_form(t, zeta):
+    m = meta()
+    w0 = math.sqrt(m["k"] / m["m"])
+    wd = w0 * math.sqrt(1 - zeta * zeta)
+    return m["v0"] / wd * math.exp(-zeta * w0 * t) * math.sin(wd * t)
+
+
+@pytest.mark.parametrize("case,zeta", [("ratio", 0.1), ("table", 0.1), ("undamped", 0.0)])
+def test_closed_form_linear_spring_first_order(tmp_path, case, zeta):
+    """Default start (LAMMPS velocity-Verlet, dashpot on the half-kicked velocity) against the
+    closed-form oscillator x(t) = v0/wd exp(-zeta w0 t) sin(wd t): error falls as O(h) (damped) or
+    better (undamped: Verlet is second order)."""
+    errs = []
+    for h in (1e-3, 5e-4):
+        steps = int(round(5.0 / h))
+        d = tmp_path / f"h{h}"
+        d.mkdir()
+        run_lines(linear_spring_deck(d, case, h, steps))
+        atoms = read_dump(d / "atom.dump")
+        amp = 1.0 / math.sqrt(50.0)
+        errs.append(max(abs(atoms[n][0][1] - closed_form(n * h, zeta)) for n in atoms) / amp)
+    print(f"[agreement] analytic_linear_spring {case} vs closed form: h=1e-3 {errs[0]:.3e}, "
+          f"h=5e-4 {errs[1]:.3e}, ratio {errs[0] / errs[1]:.2f}")
+    assert errs[0] < 2e-3
+    assert errs[0] / errs[1] > 1.8
+
+
+# ------------------------------------------------------------------------------------------------
+# (b) MPI: the same chain on 1 and 2 ranks; (c) restart continuation
+
+def chain_deck(tmp, steps, n=40, restart_at=None, read=None, extra=()):
+    """A chain of n atoms along x (spacing 1) with follower springs between neighbours and
+    next-neighbours, a CONSTANT-direction spring and a ratio dashpot, one end anchored in space,
+    gravity -y. On 2 ranks the box splits at x = 10: springs cross the rank boundary from the start
+    and the swinging chain moves atoms from one rank to the other."""
+    spr = ["table K -1 -1e5 1 1e5", "table K2 -1 -2e4 0 0 0.5 1e4 1 3e4", "table U -1 -2e5 1 2e5",
+           "table D -1 -50 1 50",
+           "spring 1 1 centre -1 -1 0 0 K dashpot D"]
+    sid = 2
+    for i in range(1, n):
+        spr.append(f"spring {sid} {i} centre {i + 1} centre K dashpot D")
+        sid += 1
+        if i + 2 <= n:
+            law = "K2 unload U ylim -100 100" if i % 3 == 0 else "K ratio 0.05"
+            spr.append(f"spring {sid} {i} centre {i + 2} centre {law}")
+            sid += 1
+    spr.append(f"spring {sid} {n} centre {n - 1} centre K direction 1 0 0")
+    head = ["units si", "atom_style sphere", "boundary f f f", "atom_modify map array",
+            "comm_modify vel yes cutoff 3.5", "processors * 1 1"]
+    if read:
+        body = ["processors * 1 1", f"read_restart {read}", "comm_modify vel yes cutoff 3.5"]
+    else:
+        body = head + ["region box block -25 45 -45 5 -3 3", "create_box 1 box",
+]
+        for i in range(n):
+            body.append(f"create_atoms 1 single {i} 0 0 units box")
+        body += ["set group all diameter 0.5", "set group all density 100",
+                 "variable vy atom 0.3*sin(id*0.7)", "variable vz atom 0.05*cos(id*1.3)",
+                 "velocity all set 0 v_vy v_vz units box"]
+    body += ["neighbor 0.5 bin", "neigh_modify every 1 delay 0 check yes",
+             "fix S all parmec/spring " + " ".join(spr),
+             "fix I all nve/sphere", "fix G all gravity 9.81 vector 0 -1 0", "timestep 1e-3",
+             *extra]
+    body += [f"dump A all custom {steps} {tmp}/atom.dump id x y z vx vy vz fx fy fz",
+             "dump_modify A sort id format float %.17g",
+             f"dump L all local {steps} {tmp}/loc.dump f_S[1] f_S[2] f_S[3] f_S[4] f_S[5] f_S[6] f_S[7]",
+             "dump_modify L format float %.17g"]
+    body.append(f"run {steps}")
+    if restart_at:
+        body += [f"write_restart {restart_at}"]
+    return body
+
+
+def run_lmp(tmp, lines, nprocs, name="in.deck"):
+    deck = tmp / name
+    deck.write_text("\n".join([f"plugin load {plugin_path()}"] + lines) + "\n")
+    cmd = [lmp_executable(), "-in", str(deck), "-log", str(tmp / (name + ".log")), "-screen", "none", "-nocite"]
+    if nprocs > 1:
+        cmd = [mpiexec(), "-n", str(nprocs)] + cmd
+    p = subprocess.run(cmd, cwd=tmp, capture_output=True, text=True, timeout=600)
+    log = (tmp / (name + ".log")).read_text() if (tmp / (name + ".log")).exists() else ""
+    assert p.returncode == 0, p.stdout + p.stderr + log[-3000:]
+    return log
+
+
+def last(dump):
+    d = read_dump(dump)
+    return d[max(d)]
+
+
+def local_by_id(rows):
+    return {int(r[0]): r[1:] for r in rows}
+
+
+def test_chain_one_vs_two_ranks(tmp_path):
+    steps = 3000
+    res = {}
+    for np_ in (1, 2):
+        d = tmp_path / f"np{np_}"
+        d.mkdir()
+        log = run_lmp(d, chain_deck(d, steps), np_)
+        res[np_] = (last(d / "atom.dump"), local_by_id(last(d / "loc.dump")), log)
+    a1, a2 = res[1][0], res[2][0]
+    assert len(a1) == len(a2) == 40
+    scale = max(abs(v) for r in a1 for v in r[1:4])
+    dx = max(abs(x - y) for r1, r2 in zip(a1, a2) for x, y in zip(r1[1:], r2[1:]))
+    l1, l2 = res[1][1], res[2][1]
+    assert sorted(l1) == sorted(l2) and len(l1) == 40 + 38 + 1
+    dl = max(abs(x - y) / max(1.0, abs(x)) for s in l1 for x, y in zip(l1[s], l2[s]))
+    moved = max(abs(r[2]) for r in a1)  # the chain swung down
+    crossed = sum(1 for r in a1 if (r[1] < 10.0) != (r[0] - 1 < 10.0))  # atoms that changed rank
+    print(f"[agreement] chain 1 vs 2 ranks after {steps} steps: atoms {dx / scale:.2e} relative, "
+          f"springs {dl:.2e}; max |y| {moved:.2f}; {crossed} atoms changed rank")
+    assert moved > 1.0 and crossed > 0
+    assert dx / scale <= 1e-12
+    assert dl <= 1e-12
+
+
+def test_restart_equals_continuous(tmp_path):
+    cont, first, second = (tmp_path / n for n in ("cont", "first", "second"))
+    for d in (cont, first, second):
+        d.mkdir()
+    run_lmp(cont, chain_deck(cont, 1200), 2)
+    run_lmp(first, chain_deck(first, 600, restart_at=str(first / "chain.restart")), 2)
+    run_lmp(second, chain_deck(second, 600, read=str(first / "chain.restart")), 2)
+    a_c, a_r = last(cont / "atom.dump"), last(second / "atom.dump")
+    l_c, l_r = local_by_id(last(cont / "loc.dump")), local_by_id(last(second / "loc.dump"))
+    assert a_c == a_r, "atoms differ after restart"
+    assert l_c == l_r, "spring outputs differ after restart"
+
+
+# ------------------------------------------------------------------------------------------------
+# (d) bad input: ERROR naming the command, the argument and what was expected
+
+def base_deck(extra_atoms=True):
+    lines = ["units si", "atom_style sphere", "boundary f f f", "atom_modify map array",
+             "comm_modify vel yes cutoff 2.5", "region box block -10 10 -10 10 -10 10", "create_box 1 box",
+             "create_atoms 1 single 0 0 0 units box"]
+    if extra_atoms:
+        lines += ["create_atoms 1 single 1 0 0 units box", "create_atoms 1 single 5 0 0 units box"]
+    return lines + ["set group all diameter 0.5 density 100", "fix I all nve/sphere", "timestep 1e-3"]
+
+
+def error_of(lines):
+    lmp = new_lammps()
+    try:
+        for line in lines:
+            lmp.command(line)
+        return None
+    except Exception as e:
+        return str(e)
+    finally:
+        lmp.close()
+
+
+T = "table K -1 -100 1 100 "
+BAD = {
+    "unknown_table": (T + "spring 1 1 centre 2 centre KK", ["fix S parmec/spring", "spring 1", "table ID 'KK'",
+                                                             "not defined"]),
+    "unknown_dashpot": (T + "spring 1 1 centre 2 centre K dashpot DD", ["spring 1", "dashpot table ID 'DD'"]),
+    "unknown_tseries": (T + "spring 1 1 centre 2 centre K offset TS", ["spring 1", "offset TSERIES ID 'TS'",
+                                                                       "not defined"]),
+    "unknown_atom": (T + "spring 7 1 centre 42 centre K", ["spring 7", "part2 atom ID 42", "unknown atom ID"]),
+    "unknown_atom1": (T + "spring 7 99 centre 1 centre K", ["spring 7", "part1 atom ID 99", "unknown atom ID"]),
+    "odd_table": ("table K -1 -100 1 spring 1 1 centre 2 centre K", ["table K", "even"]),
+    "nonincreasing_table": ("table K -1 -100 -1 100 spring 1 1 centre 2 centre K", ["table K", "increasing"]),
+    "short_table": ("table K -1 -100 spring 1 1 centre 2 centre K", ["table K"]),
+    "bad_number": ("table K -1 -100 1 1e400 spring 1 1 centre 2 centre K", ["table K", "finite number", "1e400"]),
+    "unload_slope": (T + "table U -1 100 1 -100 spring 1 1 centre 2 centre K unload U",
+                     ["spring 1", "unload"]),
+    "ylim_signs": (T + "table U -1 -100 1 100 spring 1 1 centre 2 centre K unload U ylim 5 10",
+                   ["spring 1", "ylim"]),
+    "zero_direction": (T + "spring 1 1 centre 2 centre K direction 0 0 0", ["spring 1", "direction"]),
+    "unknown_keyword": (T + "sprong 1 1 centre 2 centre K", ["unknown keyword 'sprong'", "expected table"]),
+    "missing_args": (T + "spring 1 1 centre 2", ["spring 1", "missing point2"]),
+    "too_long": (T + "spring 1 1 centre 3 centre K", ["spring 1 between atoms 1 and 3", "5 long",
+                                                      "ghost cutoff", "comm_modify cutoff"]),
+    "off_centre_no_quat": (T + "spring 1 1 0.2 0 0 2 centre K", ["spring 1", "quaternions", "bpm/sphere"]),
+    "no_ghost_velocity": (T + "spring 1 1 centre 2 centre K", ["comm_modify vel yes"]),
+    "duplicate_spring": (T + "spring 1 1 centre 2 centre K spring 1 2 centre 3 centre K", ["spring 1",
+                                                                                           "defined twice"]),
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD))
+def test_bad_input(name):
+    spec, expect = BAD[name]
+    lines = base_deck()
+    if name == "no_ghost_velocity":
+        lines = [l.replace("comm_modify vel yes", "comm_modify vel no") for l in lines]
+    msg = error_of(lines + ["fix S all parmec/spring " + spec, "run 1"])
+    assert msg is not None, f"{name}: no error"
+    for e in expect:
+        assert e in msg, f"{name}: '{e}' not in: {msg}"

@@ -26,7 +26,7 @@ const char* kUsage =
     "  --x0 x,y,z  --v0 vx,vy,vz   initial state of the next node (repeat per node)\n"
     "  --offset ox,oy,oz        offset of the next node's point, node frame (repeat per node)\n"
     "  --max-iterations N  --derivatives-max-iterations N   (tight)\n"
-    "  --accept-timeout S  --io-timeout S   (default 30 each)\n"
+    "  --accept-timeout S  --io-timeout S   (default 30 each; <= 0 waits forever like MBDyn)\n"
     "  --fault none|garbage-command|short-then-close|short-then-stall|nan|die  --fault-message K\n"
     "  --trajectory FILE        write t, then per node x y z vx vy vz theta theta_dot\n";
 
@@ -113,8 +113,13 @@ int main(int argc, char** argv) {
   s.model.initial = default_initial_states(s.shape.nodes);
   for (std::size_t i = 0; i < x0.size() && i < s.model.initial.size(); ++i) s.model.initial[i].x = x0[i];
   for (std::size_t i = 0; i < v0.size() && i < s.model.initial.size(); ++i) s.model.initial[i].v = v0[i];
-  s.on_listening = [](int port) {
-    if (port >= 0) std::cout << "mbdyn_testpeer: listening on port " << port << std::endl;
+  const std::string unix_path = s.place.unix_path;
+  s.on_listening = [unix_path](int port) {
+    // A launcher may wait for this line instead of retrying its connect.
+    if (port >= 0)
+      std::cout << "mbdyn_testpeer: listening on port " << port << std::endl;
+    else
+      std::cout << "mbdyn_testpeer: listening on unix socket " << unix_path << std::endl;
   };
 
   const PeerOutcome out = run_mbdyn_test_peer(s);

@@ -16,9 +16,12 @@ namespace dembridge::mbdyn::testpeer {
 
 namespace {
 
+// A zero timeval means "block forever" to SO_RCVTIMEO/SO_SNDTIMEO: MBDyn's own behaviour,
+// selected with a timeout <= 0.
 timeval to_timeval(double s) {
   timeval tv{};
-  if (s <= 0) s = 1e-3;
+  if (s <= 0) return tv;
+  if (s < 1e-6) s = 1e-6;
   tv.tv_sec = static_cast<time_t>(s);
   tv.tv_usec = static_cast<suseconds_t>((s - static_cast<double>(tv.tv_sec)) * 1e6);
   return tv;
@@ -94,6 +97,8 @@ std::string PeerSocket::serve(const SocketPlace& place, double timeout_s, int* b
 }
 
 std::string PeerSocket::connect_to(const SocketPlace& place, double timeout_s) {
+  // MBDyn as a client retries for at most 60 s (spec §1); that is also the "no timeout" case.
+  if (timeout_s <= 0) timeout_s = 60.0;
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   for (;;) {
     int rc;

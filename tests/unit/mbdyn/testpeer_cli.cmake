@@ -14,3 +14,9 @@ execute_process(COMMAND ${PEER} --path /tmp/dembridge-mbdyn-cli-$ENV{USER}-nobod
 if(NOT rc EQUAL 1 OR NOT out MATCHES "no peer connected")
   message(FATAL_ERROR "mbdyn_testpeer without a client: status ${rc}: ${out}")
 endif()
+# A Unix-socket peer announces where it listens before blocking in accept.
+execute_process(COMMAND ${PEER} --path /tmp/dembridge-mbdyn-cli-$ENV{USER}-announce.sock --accept-timeout 0.2
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out TIMEOUT 20)
+if(NOT out MATCHES "listening on unix socket /tmp/dembridge-mbdyn-cli-.*-announce.sock")
+  message(FATAL_ERROR "mbdyn_testpeer did not announce its socket: ${out}")
+endif()

@@ -113,6 +113,33 @@ CASES = {
                                 ["rolling_friction epsd", "needs per-contact history"]),
     "kw_absolute_damping_hooke": (base() + MATERIAL + ["pair_style gran/hooke absolute_damping on"],
                                   ["'absolute_damping' is only available with the hooke stiffness styles"]),
+    # history styles (issue 3, acceptance E)
+    "hist_newton_on": ([l.replace("newton off", "newton on") for l in base()] + MATERIAL
+                       + ["pair_style gran/hertz/history", "pair_coeff * *", "run 0"],
+                       ["pair_style gran/hertz/history", "requires 'newton off'"]),
+    "hist_missing_friction": (base() + MATERIAL[:3] + ["pair_style gran/hertz/history", "pair_coeff * *", "run 0"],
+                              ["coefficientFriction", "as requested by pair_style gran/hertz/history"]),
+    "hist_stiffness_missing_kn": (base() + MATERIAL + ["pair_style gran/hooke/history/stiffness", "pair_coeff * *", "run 0"],
+                                  ["Could not locate", "for kn as requested by pair_style gran/hooke/history/stiffness"]),
+    "hist_stiffness_missing_gamman_abs": (base() + MATERIAL + ["fix k1 all property/global kn peratomtypepair 1 1e4",
+                                                               "fix k2 all property/global kt peratomtypepair 1 1e4",
+                                                               "pair_style gran/hooke/history/stiffness absolute_damping on",
+                                                               "pair_coeff * *", "run 0"],
+                                          ["for gamman_abs as requested by"]),
+    "hist_hertz_stiffness_absolute_damping": (base() + MATERIAL + ["pair_style gran/hertz/history/stiffness absolute_damping on"],
+                                              ["'absolute_damping' is not available with hertz stiffness"]),
+    "hist_unknown_keyword": (base() + MATERIAL + ["pair_style gran/hertz/history tangential_dumping off"],
+                             ["pair_style gran/hertz/history", "unknown keyword 'tangential_dumping'"]),
+    "lammps_negative_stiffness": (base() + ["pair_style gran/hooke/history -2000 NULL 50 NULL 0.5 1"],
+                                  ["pair_style gran/hooke/history", "must be >= 0"]),
+    "lammps_bad_dampflag": (base() + ["pair_style gran/hertz/history 2000 NULL 50 NULL 0.5 2"],
+                            ["dampflag must be 0 or 1, got '2'"]),
+    "lammps_too_few_args": (base() + ["pair_style gran/hooke 2000 NULL 50"],
+                            ["expected 'Kn Kt gamma_n gamma_t xmu dampflag"]),
+    "x3_wrong_order": (base() + MATERIAL + ["pair_style gran model hertz rolling_friction cdt tangential history"],
+                       ["wrong keyword order: 'tangential'"]),
+    "x3_unknown_model": (base() + MATERIAL + ["pair_style gran model herz tangential history"],
+                         ["unknown model 'herz'"]),
 }
 
 

@@ -294,6 +294,35 @@ def test_off_centre_points_rotate_with_quaternions(tmp_path):
     assert dE <= 1e-5
 
 
+def test_file_definitions_equal_inline(tmp_path):
+    """'file FILENAME': the same words as the command line, any line breaks, '#' comments; the local
+    output also feeds compute reduce."""
+    m = meta()
+    (tmp_path / "defs.springs").write_text(
+        "# linear spring of analytic_linear_spring\n"
+        f"table K -1 {-m['k']} 1 {m['k']}   # k = 100\n"
+        "spring 1 1 centre -1 0 0 0 K\n"
+        f"   ratio {m['zeta']} direction 1 0 0\n")
+    out = {}
+    for how in ("inline", "file"):
+        d = tmp_path / how
+        d.mkdir()
+        lines = linear_spring_deck(d, "ratio", m["step"], 500)
+        if how == "file":
+            lines = [f"fix S all parmec/spring file {tmp_path / 'defs.springs'}" if l.startswith("fix S") else l
+                     for l in lines]
+        lmp = new_lammps()
+        try:
+            run_lines(lines[:-1] + ["compute R all reduce max f_S[4] inputs local", "thermo_style custom step c_R",
+                                    lines[-1]], lmp)
+            reduced = lmp.last_thermo()["c_R"]
+        finally:
+            lmp.close()
+        out[how] = (read_dump(d / "loc.dump"), read_dump(d / "atom.dump"), reduced)
+    assert out["inline"][:2] == out["file"][:2]
+    assert out["file"][2] == out["file"][0][500][0][3]
+
+
 # ------------------------------------------------------------------------------------------------
 # (d) bad input: ERROR naming the command, the argument and what was expected
 
@@ -342,6 +371,7 @@ BAD = {
                                                       "ghost cutoff", "comm_modify cutoff"]),
     "off_centre_no_quat": (T + "spring 1 1 0.2 0 0 2 centre K", ["spring 1", "quaternions", "bpm/sphere"]),
     "no_ghost_velocity": (T + "spring 1 1 centre 2 centre K", ["comm_modify vel yes"]),
+    "file_missing": ("file /nonexistent/x.springs", ["file '/nonexistent/x.springs' cannot be opened"]),
     "duplicate_spring": (T + "spring 1 1 centre 2 centre K spring 1 2 centre 3 centre K", ["spring 1",
                                                                                            "defined twice"]),
 }

@@ -6,6 +6,7 @@
 
 #include "atom.h"
 #include "comm.h"
+#include "domain.h"
 #include "error.h"
 #include "fix.h"
 #include "force.h"
@@ -64,10 +65,10 @@ void PairGran::apply_settings(const std::vector<std::string> &args)
   }
   const auto &c = model_.contact;
   const std::string p = "pair_style " + style_name_ + ": ";
-  // Sub-models of the rolling/cohesion work: refuse loudly rather than compute something else.
-  if (c.rolling != gran::RollingModel::Off) error->all(FLERR, p + "rolling_friction is not available yet in dembridge");
-  if (c.cohesion != gran::CohesionModel::Off) error->all(FLERR, p + "cohesion is not available yet in dembridge");
-  if (c.viscous) error->all(FLERR, p + "viscous is not available yet in dembridge");
+  if (c.cohesion != gran::CohesionModel::Off && domain->dimension == 2)
+    error->all(FLERR, p + "cohesion models are valid for 3d simulations only");
+  if (c.rolling != gran::RollingModel::Off && domain->dimension == 2)
+    error->all(FLERR, p + "rolling friction is implemented for 3d simulations only");
   for (const auto &w : model_.warnings)
     if (comm->me == 0) error->warning(FLERR, w);
   law_ = gran::ContactLaw(c);
@@ -276,16 +277,16 @@ void PairGran::compute(int eflag, int vflag)
     if (itype > max_type)
       error->one(FLERR, "pair_style " + style_name_ + ": atom type " + std::to_string(itype) +
                             " appeared after init; the material table only covers types up to " + std::to_string(max_type));
-    const gran::SphereView a{x[i], v[i], omega[i], radius[i]};
     const bool ifrozen = mask[i] & freeze_groupbit_;
     const double mi = (body && body[i] >= 0) ? masstotal[body[i]] : rmass[i];
+    const gran::SphereView a{x[i], v[i], omega[i], radius[i], mi};
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
     for (int jj = 0; jj < jnum; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
-      const gran::SphereView b{x[j], v[j], omega[j], radius[j]};
       double *hist = history_ ? history_->slot(i, jj) : scratch;
       const double mj = (body && body[j] >= 0) ? masstotal[body[j]] : rmass[j];
+      const gran::SphereView b{x[j], v[j], omega[j], radius[j], mj};
       double meff = mi * mj / (mi + mj);
       if (ifrozen) meff = mj;
       if (mask[j] & freeze_groupbit_) meff = mi;

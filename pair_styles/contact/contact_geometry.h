@@ -8,6 +8,7 @@ namespace dembridge::gran {
 struct SphereView {  // one particle of a pair, as LAMMPS stores it
   const double *x, *v, *omega;
   double radius;
+  double mass = 0.0;  // particle (or body) mass; used by the rolling dashpot inertia
 };
 
 struct ContactGeometry {

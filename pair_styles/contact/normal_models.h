@@ -30,7 +30,16 @@ inline NormalCoefficients normal_coefficients(const ContactConfig &cfg, const Pa
       const double V = pc.char_vel;
       c.kn = 16. / 15. * sqrtval * pc.Yeff * std::pow(15. * meff * V * V / (16. * sqrtval * pc.Yeff), 0.2);
       c.kt = cfg.kt_to_kn_user ? c.kn * 0.285714286 : c.kn;
-      c.gamman = hooke_gamma(meff, c.kn, pc.lnE, cfg.legacy_2x_expressions);
+      if (cfg.viscous) {
+        // Legendre: e = e_max exp(−St_c/St) with the 3.8 (dimensionally correct) Stokes number,
+        // taken with |vn| so that e never exceeds e_max while separating; at vn = 0 the limit
+        // ln e → −∞ gives γn = sqrt(4 m* kn) instead of 3.8's NaN (spec §5.5).
+        const double St = meff * std::fabs(g.vn) / (6.0 * kPi * pc.fluid_viscosity * g.reff * g.reff);
+        c.gamman = St > 0.0 ? hooke_gamma(meff, c.kn, pc.ln_max_restitution - pc.critical_stokes / St, cfg.legacy_2x_expressions)
+                            : std::sqrt(4. * meff * c.kn);
+      } else {
+        c.gamman = hooke_gamma(meff, c.kn, pc.lnE, cfg.legacy_2x_expressions);
+      }
       c.gammat = c.gamman;
       break;
     }

@@ -85,7 +85,7 @@ MaterialTable MaterialTable::build(const ModelDescription &model, const Property
       if (!(y > 0)) throw MaterialError(caller + ": youngsModulus must be > 0 (type " + std::to_string(i) + " has " + fmt(y) + ")");
       check(v >= 0 && v <= 0.5, "0 <= poissonsRatio <= 0.5 required (type " + std::to_string(i) + " has " + fmt(v) + ")");
     }
-    const bool need_e = !(cfg.normal == NormalModel::Hooke && cfg.viscous && model.dialect == Dialect::Liggghts3x);
+    const bool need_e = !(cfg.normal == NormalModel::Hooke && cfg.viscous);  // viscous replaces e (3.8 rule)
     const GlobalProperty *e = need_e ? &rd.get("coefficientRestitution", Kind::PerTypePair) : nullptr;
     double V = 0;
     if (cfg.normal == NormalModel::Hooke) {
@@ -123,6 +123,50 @@ MaterialTable MaterialTable::build(const ModelDescription &model, const Property
         c.kt = kt.per_type_pair(i, j);
         c.gamman = gn.per_type_pair(i, j);
         c.gammat = gt.per_type_pair(i, j);
+      }
+  }
+
+  // rolling friction (spec §8)
+  if (cfg.rolling != RollingModel::Off) {
+    const auto &mur = rd.get("coefficientRollingFriction", Kind::PerTypePair);
+    const bool dashpot = cfg.rolling == RollingModel::Epsd || cfg.rolling == RollingModel::Epsd3;
+    const GlobalProperty *eta = dashpot ? &rd.get("coefficientRollingViscousDamping", Kind::PerTypePair) : nullptr;
+    double kr = 0;
+    if (cfg.rolling == RollingModel::Epsd3) {
+      kr = rd.get("rollingStiffness", Kind::Scalar).scalar();
+      if (units == UnitSystem::SI) check(kr >= 1.0, "rollingStiffness >= 1 required for SI units (got " + fmt(kr) + ")");
+    }
+    for (int i = 1; i <= max_type; ++i)
+      for (int j = 1; j <= max_type; ++j) {
+        PairCoeffs &c = t.table_[i * (max_type + 1) + j];
+        c.mu_roll = mur.per_type_pair(i, j);
+        if (c.mu_roll < 0) throw MaterialError(caller + ": coefficientRollingFriction must be >= 0");
+        c.eta_roll = eta ? eta->per_type_pair(i, j) : 0.0;
+        c.roll_stiffness = kr;
+      }
+  }
+  // cohesion (spec §6)
+  if (cfg.cohesion != CohesionModel::Off) {
+    const auto &k = rd.get("cohesionEnergyDensity", Kind::PerTypePair);
+    for (int i = 1; i <= max_type; ++i)
+      for (int j = 1; j <= max_type; ++j) t.table_[i * (max_type + 1) + j].cohesion_energy_density = k.per_type_pair(i, j);
+  }
+  // viscous Stokes damping of the hooke model (spec §5.5)
+  if (cfg.viscous) {
+    const auto &mu = rd.get("FluidViscosity", Kind::PerTypePair);
+    const auto &emax = rd.get("MaximumRestitution", Kind::PerTypePair);
+    const auto &stc = rd.get("CriticalStokes", Kind::PerTypePair);
+    for (int i = 1; i <= max_type; ++i)
+      for (int j = 1; j <= max_type; ++j) {
+        PairCoeffs &c = t.table_[i * (max_type + 1) + j];
+        const std::string tp = " (types " + std::to_string(i) + "," + std::to_string(j) + ")";
+        const double m = mu.per_type_pair(i, j), e = emax.per_type_pair(i, j), s = stc.per_type_pair(i, j);
+        if (!(e > 0 && e <= 1)) throw MaterialError(caller + ": 0 < MaximumRestitution <= 1 required" + tp);
+        if (!(m > 0)) throw MaterialError(caller + ": FluidViscosity > 0 required" + tp);
+        if (!(s > 0)) throw MaterialError(caller + ": CriticalStokes > 0 required" + tp);
+        c.fluid_viscosity = m;
+        c.ln_max_restitution = std::log(e);
+        c.critical_stokes = s;
       }
   }
 

@@ -1,0 +1,62 @@
+"""Rolling friction, cohesion and Stokes viscous damping against independent references
+(issue 4, acceptance A), serial and 2 ranks:
+* 3.x syntax against the LIGGGHTS 3.8 binary (live), 3.8 semantics (cohesion outside the
+  Coulomb limit unless tangential_reduce on);
+* 2.x syntax against the 2.x-semantics Python model of the spec (cohesion always inside the limit).
+Every frame to 1e-12 (norm-wise relative), except where stated."""
+import numpy as np
+import pytest
+
+import oracle_harness as oh
+
+ROLLING = ["rolling_cdt", "rolling_epsd", "rolling_epsd2", "rolling_epsd3", "rolling_cdt_hooke_oblique"]
+MULTIPAIR = ["multipair_hertz_cdt", "multipair_hertz_epsd", "multipair_hertz_epsd2", "multipair_hooke_epsd3",
+             "multipair_hertz_sjkr", "multipair_hertz_sjkr2"]
+COHESION_38 = ["cohesion_sjkr", "cohesion_sjkr2", "cohesion_sjkr_hooke_headon", "cohesion_sjkr_treduce",
+               "rolling_epsd_cohesion_treduce"]
+COHESION_2X = ["cohesion_sjkr_treduce", "rolling_epsd_cohesion_treduce"]  # 2.x = tangential_reduce on
+
+
+# On 2 ranks a pair split across ranks is evaluated from both sides with i and j swapped (newton
+# off), so n = ±del/r rounds differently; near a sign change of a small torque this shows at
+# 1e-12 (measured 1.4e-12 in cohesion_sjkr's torque at step 1178, |torque| 5e-9 N m).
+RTOL = {1: 1e-12, 2: 1e-11}
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("case", ROLLING + MULTIPAIR + COHESION_38)
+def test_3x_syntax_matches_liggghts(plugin, tmp_path, case, nprocs):
+    rep = oh.check_case(case, rtol=RTOL[nprocs], nprocs=nprocs, live=True, syntax="3x", workdir=tmp_path, plugin=plugin)
+    assert rep.passed, rep.summary()
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("case", ROLLING + MULTIPAIR + COHESION_2X)
+def test_2x_syntax_matches_2x_model(plugin, tmp_path, case, nprocs):
+    rep = oh.check_case(case, rtol=RTOL[nprocs], nprocs=nprocs, semantics="2x", syntax="2x", workdir=tmp_path, plugin=plugin)
+    assert rep.passed, rep.summary()
+
+
+def test_viscous_headon_matches_liggghts_while_approaching(plugin, tmp_path):
+    """Until the normal velocity changes sign, 3.8's Stokes number and ours are the same. From then
+    on 3.8 uses the signed St, which gives an effective restitution above MaximumRestitution; ours
+    uses |St| (issue 4: restitution never above the maximum), so the frames after that differ."""
+    ref = oh.read_dump(oh.case_dir("hooke_viscous_headon") / "dump.txt")
+    approaching = [s for s, fr in sorted(ref.items())
+                   if (fr["v"][0] - fr["v"][1]) @ (fr["x"][0] - fr["x"][1]) < 0]
+    last = max(s for s in approaching if all(t in approaching for t in range(0, s + 1)))
+    assert last > 200, "the approach phase of the oracle must be long enough to compare"
+    rep = oh.check_case("hooke_viscous_headon", rtol=1e-12, syntax="3x", workdir=tmp_path, plugin=plugin,
+                        steps=range(0, last + 1))
+    assert rep.passed, rep.summary()
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_gas200_periodic_first_2000_steps(plugin, tmp_path, nprocs):
+    """200 polydisperse spheres, hertz + cdt, periodic: LIGGGHTS 3.8 keeps a stale spring until the
+    next neighbour rebuild (not reproduced: we zero it on separation); the first 2000 steps are
+    unaffected and must agree to 1e-10 per frame."""
+    rep = oh.check_case("gas200_periodic", rtol=1e-10, nprocs=nprocs, syntax="3x", workdir=tmp_path, plugin=plugin,
+                        steps=range(0, 2001, 200))  # the dump interval
+    assert rep.passed, rep.summary()
+    assert len(rep.steps_compared) >= 11

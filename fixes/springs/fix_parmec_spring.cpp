@@ -153,14 +153,23 @@ FixParmecSpring::FixParmecSpring(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
   }
   names_.clear();
   for (auto &kv : by_part1_) max_per_atom_ = std::max<int>(max_per_atom_, kv.second.size());
+  int kmax2 = 1;  // most springs with one atom as part2: only those contributions travel to owners
   {
-    std::unordered_map<tagint, int> touching;
+    std::unordered_map<tagint, int> touching, as_part2;
     for (const SpringDef &d : defs_) {
       kmax_ = std::max(kmax_, ++touching[d.tag1]);
-      if (d.tag2 >= 0) kmax_ = std::max(kmax_, ++touching[d.tag2]);
+      if (d.tag2 >= 0) {
+        kmax_ = std::max(kmax_, ++touching[d.tag2]);
+        kmax2 = std::max(kmax2, ++as_part2[d.tag2]);
+      }
     }
   }
-  comm_reverse = 1 + 7 * kmax_;
+  // Ordered sums need kmax_ slots per atom (local and ghost) and per reverse-communicated atom; an atom
+  // with very many springs (a hub) would make that large, so beyond kMaxOrdered the contributions are
+  // summed as they come (results then depend on the decomposition at round-off level).
+  ordered_ = kmax_ <= kMaxOrdered;
+  if (!ordered_) kmax_ = kmax2 = 1;
+  comm_reverse = 1 + 7 * kmax2;
 
   maxexchange = 1 + max_per_atom_ * kSlot;
   grow_arrays(atom->nmax);
@@ -729,6 +738,16 @@ void FixParmecSpring::evaluate(Mode mode)
 
 void FixParmecSpring::contribute(int i, int idx, const sp::Vec3 &F, const sp::Vec3 &T, double sign)
 {
+  if (!ordered_) {
+    double *e = &cbuf_[std::size_t(i) * 7];
+    if (ccount_[i] == 0) std::fill(e, e + 7, 0.0);
+    ccount_[i] = 1;
+    for (int c = 0; c < 3; c++) {
+      e[1 + c] += sign * F[c];
+      e[4 + c] += sign * T[c];
+    }
+    return;
+  }
   if (ccount_[i] >= kmax_) error->one(FLERR, cmd_ + ": internal error: too many spring contributions on one atom");
   double *e = &cbuf_[(std::size_t(i) * kmax_ + ccount_[i]++) * 7];
   e[0] = idx;
@@ -755,6 +774,16 @@ void FixParmecSpring::unpack_reverse_comm(int n, int *list, double *buf)
   for (int i = 0; i < n; i++) {
     const int j = list[i];
     const int cnt = static_cast<int>(buf[m++]);
+    if (!ordered_) {
+      if (cnt) {
+        double *e = &cbuf_[std::size_t(j) * 7];
+        if (ccount_[j] == 0) std::fill(e, e + 7, 0.0);
+        ccount_[j] = 1;
+        for (int c = 1; c < 7; c++) e[c] += buf[m + c];
+      }
+      m += 7 * cnt;
+      continue;
+    }
     if (ccount_[j] + cnt > kmax_) error->one(FLERR, cmd_ + ": internal error: too many spring contributions");
     std::copy(buf + m, buf + m + 7 * cnt, &cbuf_[(std::size_t(j) * kmax_ + ccount_[j]) * 7]);
     ccount_[j] += cnt;

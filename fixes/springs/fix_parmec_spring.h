@@ -94,7 +94,9 @@ class FixParmecSpring : public LAMMPS_NS::Fix {
   std::vector<std::vector<double>> slots_;  // per atom
   // Per atom (local and ghost) up to kmax_ contributions [spring index, force(3), torque(3)], summed
   // on the owner in spring order after the reverse communication (decomposition-independent sums).
+  static constexpr int kMaxOrdered = 64;
   int kmax_ = 1;
+  bool ordered_ = true;
   std::vector<int> ccount_;
   std::vector<double> cbuf_;
   int nmax_ = 0;

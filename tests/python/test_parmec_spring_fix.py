@@ -228,6 +228,38 @@ def test_chain_one_vs_two_ranks(tmp_path):
     assert dl <= 1e-12
 
 
+def hub_deck(tmp, steps, n=70):
+    """A hub atom with n > 64 springs (beyond the ordered-sum limit: plain sums) to atoms on a circle."""
+    lines = ["units si", "atom_style sphere", "boundary f f f", "atom_modify map array",
+             "comm_modify vel yes cutoff 2.5", "processors * 1 1", "region box block -5 5 -5 5 -5 5",
+             "create_box 1 box", "create_atoms 1 single 0.05 0.02 0 units box"]
+    spr = ["table K -1 -1e4 1 1e4", "table D -1 -5 1 5"]
+    for i in range(n):
+        a = 2 * math.pi * i / n
+        lines.append(f"create_atoms 1 single {1.5 * math.cos(a)!r} {1.5 * math.sin(a)!r} 0 units box")
+        spr.append(f"spring {i + 1} 1 centre {i + 2} centre K dashpot D")
+    return lines + ["set group all diameter 0.2 density 1000",
+                    "variable vx atom 0.2*sin(id*0.9)", "variable vy atom 0.2*cos(id*1.7)",
+                    "velocity all set v_vx v_vy 0 units box",
+                    "fix S all parmec/spring " + " ".join(spr), "fix I all nve/sphere", "timestep 1e-4",
+                    f"dump A all custom {steps} {tmp}/atom.dump id x y z vx vy vz",
+                    "dump_modify A sort id format float %.17g", f"run {steps}"]
+
+
+def test_hub_one_vs_two_ranks(tmp_path):
+    """More than 64 springs on one atom: sums are not reordered, so 1 and 2 ranks agree to round-off."""
+    res = {}
+    for np_ in (1, 2):
+        d = tmp_path / f"np{np_}"
+        d.mkdir()
+        run_lmp(d, hub_deck(d, 2000), np_)
+        res[np_] = last(d / "atom.dump")
+    scale = max(abs(v) for r in res[1] for v in r[1:4])
+    dx = max(abs(x - y) for r1, r2 in zip(res[1], res[2]) for x, y in zip(r1[1:4], r2[1:4]))
+    print(f"[agreement] hub with 70 springs, 1 vs 2 ranks: positions {dx / scale:.2e} relative")
+    assert dx / scale <= 1e-12
+
+
 def test_restart_equals_continuous(tmp_path):
     cont, first, second = (tmp_path / n for n in ("cont", "first", "second"))
     for d in (cont, first, second):

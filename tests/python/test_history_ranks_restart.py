@@ -45,16 +45,21 @@ def read_contacts(pattern):
     return a[np.lexsort((a[:, 1], a[:, 0]))]
 
 
-@pytest.fixture(scope="module")
-def serial(tmp_path_factory):
+# the sub-models whose per-contact history must survive migration and restarts
+MODELS = {"shear": {}, "epsd_sjkr": {"rolling": "epsd", "cohesion": "sjkr"}, "epsd2_sjkr2": {"rolling": "epsd2", "cohesion": "sjkr2"}}
+
+
+@pytest.fixture(scope="module", params=sorted(MODELS))
+def serial(request, tmp_path_factory):
     out = tmp_path_factory.mktemp("ranks") / "n1"
-    run(out)
-    return read_final(out / "final.all.dump")
+    run(out, **MODELS[request.param])
+    return request.param, read_final(out / "final.all.dump")
 
 
 @pytest.mark.parametrize("nprocs", [2, 3, 4])
 def test_rank_invariance(serial, tmp_path, nprocs):
-    run(tmp_path / "o", nprocs=nprocs)
+    model, serial = serial
+    run(tmp_path / "o", nprocs=nprocs, **MODELS[model])
     got = read_final(tmp_path / "o" / "final.all.dump")
     assert np.array_equal(got[:, 0], serial[:, 0])
 
@@ -67,16 +72,21 @@ def test_rank_invariance(serial, tmp_path, nprocs):
     # f and torque are sums of many nearly cancelling contact forces: their relative round-off
     # is larger (measured 1.2e-11 on 4 ranks while x, v, omega stay below 1e-12)
     derived = max(worst(c) for c in ([12, 13, 14], [15, 16, 17]))
-    print(f"{nprocs} ranks: state {state:.3e}, forces {derived:.3e}")
-    assert state <= 1e-12, f"{nprocs} ranks: worst relative deviation of x, v, omega {state:.3e}"
-    assert derived <= 1e-10, f"{nprocs} ranks: worst relative deviation of f, torque {derived:.3e}"
+    print(f"{model} {nprocs} ranks: state {state:.3e}, forces {derived:.3e}")
+    # Rolling torques switch between the elastic and the mobilised branch and cohesive contacts
+    # stick, which amplifies the rank-dependent round-off (pairs split across ranks are evaluated
+    # from both sides) faster: measured up to 1.6e-11 (x, v, ω) and 6.8e-9 (f, torque) after 1000 steps.
+    tol_state, tol_derived = (1e-12, 1e-10) if model == "shear" else (1e-10, 1e-7)
+    assert state <= tol_state, f"{nprocs} ranks: worst relative deviation of x, v, omega {state:.3e}"
+    assert derived <= tol_derived, f"{nprocs} ranks: worst relative deviation of f, torque {derived:.3e}"
 
 
-def test_restart_equals_split_run_bitwise(tmp_path):
+@pytest.mark.parametrize("model", sorted(MODELS))
+def test_restart_equals_split_run_bitwise(tmp_path, model):
     out = tmp_path / "r"
-    run(out, steps=1000, split="yes")
-    run(out, steps=500, phase="first")
-    log = run(out, steps=500, phase="second")
+    run(out, steps=1000, split="yes", **MODELS[model])
+    run(out, steps=500, phase="first", **MODELS[model])
+    log = run(out, steps=500, phase="second", **MODELS[model])
     assert "Resetting peratom fix info from restart file" in log and "dembridge/contact/history" in log
     assert "fix property/global" not in log.replace("WARNING", "")  # materials came from the restart file
     a, b = read_final(out / "final.all.dump"), read_final(out / "final.second.dump")
@@ -84,6 +94,8 @@ def test_restart_equals_split_run_bitwise(tmp_path):
     ca, cb = read_contacts(str(out / "contacts.all.1000")), read_contacts(str(out / "contacts.second.1000"))
     assert len(ca) > 300, "the deck must have many contacts"
     assert np.abs(ca[:, 7:10]).max() > 0, "the contacts must carry shear history"
+    if MODELS[model].get("rolling", "off").startswith("epsd"):
+        assert ca.shape[1] == 13 and np.abs(ca[:, 10:13]).max() > 0, "the contacts must carry rolling history"
     assert np.array_equal(ca, cb), "contact history differs after restart"
 
 

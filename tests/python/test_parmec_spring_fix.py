@@ -260,6 +260,61 @@ def test_hub_one_vs_two_ranks(tmp_path):
     assert dx / scale <= 1e-12
 
 
+def net_deck(tmp, steps, nx=40, ny=25):
+    """Acceptance C size: a hanging net of nx*ny = 1000 atoms (spacing 1) with 3847 springs: neighbours
+    along x and y (table dashpot), both diagonals (ratio dashpot / unload + ylim), the top row anchored."""
+    spr = ["table K -1 -1e5 1 1e5", "table K2 -1 -2e4 0 0 0.5 1e4 1 3e4", "table U -1 -2e5 1 2e5",
+           "table D -1 -50 1 50"]
+    ident = lambda i, j: 1 + i + nx * j  # noqa: E731
+    sid = 1
+    for j in range(ny):
+        for i in range(nx):
+            a = ident(i, j)
+            if j == 0:
+                spr.append(f"spring {sid} {a} centre -1 {i} 1 0 K dashpot D"); sid += 1
+            if i + 1 < nx:
+                spr.append(f"spring {sid} {a} centre {ident(i + 1, j)} centre K dashpot D"); sid += 1
+            if j + 1 < ny:
+                spr.append(f"spring {sid} {a} centre {ident(i, j + 1)} centre K dashpot D"); sid += 1
+            if i + 1 < nx and j + 1 < ny:
+                spr.append(f"spring {sid} {a} centre {ident(i + 1, j + 1)} centre K ratio 0.05"); sid += 1
+                spr.append(f"spring {sid} {ident(i + 1, j)} centre {ident(i, j + 1)} centre K2 unload U "
+                           "ylim -100 100"); sid += 1
+    (tmp / "net.springs").write_text("\n".join(spr) + "\n")
+    return ["units si", "atom_style sphere", "boundary f f f", "atom_modify map array",
+            "comm_modify vel yes cutoff 2.5", f"region box block -5 {nx + 5} {-ny - 10} 5 -5 5", "create_box 1 box",
+            *[f"create_atoms 1 single {i} {-j} 0 units box" for j in range(ny) for i in range(nx)],
+            "set group all diameter 0.5 density 100",
+            "variable vz atom 0.2*sin(id*0.37)", "velocity all set 0 0 v_vz units box",
+            "neighbor 0.3 bin", "neigh_modify every 1 delay 0 check yes",
+            f"fix S all parmec/spring file {tmp}/net.springs", "fix I all nve/sphere",
+            "fix G all gravity 9.81 vector 0 -1 0", "timestep 5e-4",
+            f"dump A all custom {steps} {tmp}/atom.dump id x y z vx vy vz",
+            "dump_modify A sort id format float %.17g",
+            f"dump L all local {steps} {tmp}/loc.dump f_S[1] f_S[2] f_S[3] f_S[4] f_S[5] f_S[6] f_S[7]",
+            "dump_modify L format float %.17g", f"run {steps}"]
+
+
+def test_net_1000_atoms_1_2_4_ranks(tmp_path):
+    """1000 atoms, 3847 springs on 1, 2 and 4 ranks (4 oversubscribes a 2-core machine)."""
+    res = {}
+    for np_ in (1, 2, 4):
+        d = tmp_path / f"np{np_}"
+        d.mkdir()
+        run_lmp(d, net_deck(d, 400), np_)
+        res[np_] = (last(d / "atom.dump"), local_by_id(last(d / "loc.dump")))
+    assert len(res[1][0]) == 1000 and len(res[1][1]) == 3847
+    y = [r[2] for r in res[1][0]]
+    ids = [r[0] for r in res[1][0]]
+    assert ids == list(range(1, 1001)) and min(y) < -24.01  # the net sagged
+    for np_ in (2, 4):
+        same = res[np_][0] == res[1][0] and res[np_][1] == res[1][1]
+        scale = max(abs(v) for r in res[1][0] for v in r[1:4])
+        dx = max(abs(a - b) for r1, r2 in zip(res[1][0], res[np_][0]) for a, b in zip(r1[1:], r2[1:])) / scale
+        print(f"[agreement] net 1000 atoms / 3847 springs, 1 vs {np_} ranks: {dx:.2e} relative, bitwise {same}")
+        assert dx <= 1e-12
+
+
 def test_restart_equals_continuous(tmp_path):
     cont, first, second = (tmp_path / n for n in ("cont", "first", "second"))
     for d in (cont, first, second):

@@ -281,10 +281,13 @@ def net_deck(tmp, steps, nx=40, ny=25):
                 spr.append(f"spring {sid} {ident(i + 1, j)} centre {ident(i, j + 1)} centre K2 unload U "
                            "ylim -100 100"); sid += 1
     (tmp / "net.springs").write_text("\n".join(spr) + "\n")
+    # one read_data instead of 1000 create_atoms: collectives are slow on oversubscribed ranks
+    data = [f"net\n\n{nx * ny} atoms\n1 atom types\n-5 {nx + 5} xlo xhi\n{-ny - 10} 5 ylo yhi\n-5 5 zlo zhi\n",
+            "Atoms # sphere\n"]
+    data += [f"{ident(i, j)} 1 0.5 100 {i} {-j} 0" for j in range(ny) for i in range(nx)]
+    (tmp / "net.data").write_text("\n".join(data) + "\n")
     return ["units si", "atom_style sphere", "boundary f f f", "atom_modify map array",
-            "comm_modify vel yes cutoff 2.5", f"region box block -5 {nx + 5} {-ny - 10} 5 -5 5", "create_box 1 box",
-            *[f"create_atoms 1 single {i} {-j} 0 units box" for j in range(ny) for i in range(nx)],
-            "set group all diameter 0.5 density 100",
+            "comm_modify vel yes cutoff 2.5", f"read_data {tmp}/net.data",
             "variable vz atom 0.2*sin(id*0.37)", "velocity all set 0 0 v_vz units box",
             "neighbor 0.3 bin", "neigh_modify every 1 delay 0 check yes",
             f"fix S all parmec/spring file {tmp}/net.springs", "fix I all nve/sphere",

@@ -110,6 +110,82 @@ def test_oracle_linear_spring_parmec_start(tmp_path, case):
         assert e <= 1e-12, (c, e)
 
 
+def drive_prescribed(lmp, motion):
+    """Acceptance A through the glue: no integrator; before each step the atom is put at Parmec's
+    x_{n+1/2} with velocity v_n, then 'run 1' evaluates (and commits) the spring once. Yields the
+    fix's local array row after each step."""
+    from lammps import LMP_STYLE_LOCAL, LMP_TYPE_ARRAY
+    for x, v in motion:
+        lmp.command(f"set atom 1 x {x!r} vx {v!r}")
+        lmp.command("run 1 pre no post no")
+        yield list(lmp.numpy.extract_fix("S", LMP_STYLE_LOCAL, LMP_TYPE_ARRAY)[0])
+
+
+def prescribed_lammps(tables, spring, h):
+    lmp = new_lammps()
+    for c in ["units si", "atom_style sphere", "boundary f f f", "region box block -10 10 -10 10 -10 10",
+              "create_box 1 box", "create_atoms 1 single 0 0 0 units box", "set atom 1 diameter 0.5 mass 1",
+              f"fix S all parmec/spring {tables} {spring}", f"timestep {h!r}", "thermo 0"]:
+        lmp.command(c)
+    return lmp
+
+
+def test_oracle_ylim_cycle_prescribed():
+    """analytic_ylim_cycle (spring + unload + ylim, prescribed velocity schedule): per-step F, SF,
+    STROKE and SS through LAMMPS equal Parmec's (state carried in the fix between steps)."""
+    d = os.path.join(ORACLE, "analytic_ylim_cycle")
+    import json
+    m = json.load(open(os.path.join(d, "meta.json")))
+    with open(os.path.join(d, "history.csv")) as f:
+        rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+    h, P, V = m["step"], [r["PX"] for r in rows], [r["VX"] for r in rows]
+    # step 0 used x0 + h/2 v0, v0; step 1 x_{5/2} - h v_2 and v_0 (Q2); step n >= 2 row n-1
+    motion = [(P[0] + 0.5 * h * V[0], V[0]), (P[1] - h * V[1], V[0])] + [(P[n - 1], V[n - 1]) for n in
+                                                                        range(2, len(rows))]
+    num = lambda a: " ".join(repr(float(x)) for x in a)  # noqa: E731
+    lmp = prescribed_lammps(f"table K {num(m['spring'])} table U {num(m['unload'])}",
+                            f"spring 1 1 centre -1 0 0 0 K unload U ylim {num(m['ylim'])} direction 1 0 0", h)
+    try:
+        out = list(drive_prescribed(lmp, motion))
+    finally:
+        lmp.close()
+    got = {c: [o[COLS.index(c)] for o in out[1:]] for c in ["F", "SF", "STROKE", "SS"]}
+    ref = {c: [r["spr0_" + c] for r in rows[1:]] for c in got}
+    scale = max(abs(v) for v in ref["F"])
+    dF = max(max(abs(a - b) for a, b in zip(got[c], ref[c])) for c in ("F", "SF")) / scale
+    dS = max(abs(a - b) for a, b in zip(got["STROKE"], ref["STROKE"]))
+    print(f"[agreement] analytic_ylim_cycle prescribed through LAMMPS: F,SF {dF:.2e} relative, "
+          f"STROKE {dS:.1e} abs, SS equal {got['SS'] == ref['SS']}")
+    assert dF <= 1e-12 and dS <= 1e-15 and got["SS"] == ref["SS"]
+    assert len(set(got["SS"])) == 1 and min(got["SF"]) < -1000 and max(got["SF"]) > 1500  # yielded both ways
+
+
+def test_oracle_spring_curve_tests_prescribed():
+    """spring_curve_tests: 12 random curves swept by a prescribed velocity (Parmec's interval and
+    extrapolation rules through the glue); step of row r used the position of row r-1."""
+    d = os.path.join(ORACLE, "spring_curve_tests")
+    import json
+    h = json.load(open(os.path.join(d, "meta.json")))["step"]
+    worst = 0.0
+    for c in range(12):
+        with open(os.path.join(d, f"case{c:02d}_curve.csv")) as f:
+            curve = [(float(r["stroke"]), float(r["force"])) for r in csv.DictReader(f)]
+        with open(os.path.join(d, f"case{c:02d}_history.csv")) as f:
+            rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+        table = " ".join(f"{x!r} {y!r}" for x, y in curve)
+        lmp = prescribed_lammps(f"table C {table}", "spring 1 1 centre -1 0 0 0 C direction -1 0 0", h)
+        try:
+            out = list(drive_prescribed(lmp, [(r["PX"], r["VX"]) for r in rows[:-1]]))
+        finally:
+            lmp.close()
+        scale = max(abs(r["spr0_F"]) for r in rows[1:])
+        for o, r in zip(out, rows[1:]):
+            worst = max(worst, abs(o[3] - r["spr0_F"]) / scale, abs(o[4] - r["spr0_SF"]) / scale)
+            assert abs(o[2] - r["spr0_STROKE"]) <= 1e-15 and abs(o[1] - r["spr0_LENGTH"]) <= 1e-15
+    print(f"[agreement] spring_curve_tests (12 curves) prescribed through LAMMPS: F,SF {worst:.2e} relative")
+    assert worst <= 1e-12
+
+
 def closed_form(t, zeta):
     m = meta()
     w0 = math.sqrt(m["k"] / m["m"])

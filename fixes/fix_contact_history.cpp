@@ -151,7 +151,8 @@ void FixContactHistory::copy_arrays(int i, int j, int /*delflag*/)
   std::copy_n(&pvalues_[std::size_t(i) * cap_ * nv_], npartner_[i] * nv_, &pvalues_[std::size_t(j) * cap_ * nv_]);
 }
 
-int FixContactHistory::pack_exchange(int i, double *buf)
+// Partner list of atom i as [n, tag_1, values_1..., tag_n, values_n...]; shared by exchange and restart.
+int FixContactHistory::pack_partners(int i, double *buf) const
 {
   int m = 0;
   buf[m++] = npartner_[i];
@@ -162,17 +163,27 @@ int FixContactHistory::pack_exchange(int i, double *buf)
   return m;
 }
 
-int FixContactHistory::unpack_exchange(int nlocal, double *buf)
+int FixContactHistory::unpack_partners(int i, const double *buf)
 {
   int m = 0;
   const int n = static_cast<int>(buf[m++]);
   if (n > cap_) grow_capacity(n);
-  npartner_[nlocal] = n;
+  npartner_[i] = n;
   for (int k = 0; k < n; k++) {
-    partner_[std::size_t(nlocal) * cap_ + k] = static_cast<tagint>(ubuf(buf[m++]).i);
-    for (int q = 0; q < nv_; q++) pvalues_[(std::size_t(nlocal) * cap_ + k) * nv_ + q] = buf[m++];
+    partner_[std::size_t(i) * cap_ + k] = static_cast<tagint>(ubuf(buf[m++]).i);
+    for (int q = 0; q < nv_; q++) pvalues_[(std::size_t(i) * cap_ + k) * nv_ + q] = buf[m++];
   }
   return m;
+}
+
+int FixContactHistory::pack_exchange(int i, double *buf)
+{
+  return pack_partners(i, buf);
+}
+
+int FixContactHistory::unpack_exchange(int nlocal, double *buf)
+{
+  return unpack_partners(nlocal, buf);
 }
 
 // A restart written mid-run needs the per-atom lists of this step.
@@ -190,13 +201,8 @@ int FixContactHistory::size_restart(int i)
 int FixContactHistory::pack_restart(int i, double *buf)
 {
   sync_atoms();
-  int m = 1;
-  buf[m++] = npartner_[i];
-  for (int k = 0; k < npartner_[i]; k++) {
-    buf[m++] = ubuf(partner_[std::size_t(i) * cap_ + k]).d;
-    for (int q = 0; q < nv_; q++) buf[m++] = pvalues_[(std::size_t(i) * cap_ + k) * nv_ + q];
-  }
-  buf[0] = m;
+  const int m = 1 + pack_partners(i, buf + 1);
+  buf[0] = m;  // LAMMPS convention: the first value is the length of this fix's block
   return m;
 }
 
@@ -205,14 +211,7 @@ void FixContactHistory::unpack_restart(int nlocal, int nth)
   double **extra = atom->extra;
   int m = 0;
   for (int k = 0; k < nth; k++) m += static_cast<int>(extra[nlocal][m]);
-  m++;
-  const int n = static_cast<int>(extra[nlocal][m++]);
-  if (n > cap_) grow_capacity(n);
-  npartner_[nlocal] = n;
-  for (int k = 0; k < n; k++) {
-    partner_[std::size_t(nlocal) * cap_ + k] = static_cast<tagint>(ubuf(extra[nlocal][m++]).i);
-    for (int q = 0; q < nv_; q++) pvalues_[(std::size_t(nlocal) * cap_ + k) * nv_ + q] = extra[nlocal][m++];
-  }
+  unpack_partners(nlocal, &extra[nlocal][m + 1]);
   list_valid_ = false;
 }
 

@@ -66,6 +66,8 @@ class FixContactHistory : public LAMMPS_NS::Fix {
 
   void atoms_from_list();
   void sync_atoms();
+  int pack_partners(int i, double *buf) const;
+  int unpack_partners(int i, const double *buf);
   void list_from_atoms();
   void add_partner(int i, LAMMPS_NS::tagint tag, const double *v, double sign);
   void grow_capacity(int need);

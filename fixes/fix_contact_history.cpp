@@ -55,9 +55,11 @@ void FixContactHistory::post_neighbor()
 }
 
 // Keep per-atom lists current between runs (restart files, atom changes before the next run).
+// The list-order slots stay valid too, so a following `run N pre no` (no setup, no neighbour
+// rebuild) continues with them.
 void FixContactHistory::post_run()
 {
-  pre_exchange();
+  sync_atoms();
 }
 
 void FixContactHistory::add_partner(int i, tagint tag, const double *v, double sign)

@@ -183,9 +183,13 @@ void PairGran::init_style()
 
   freeze_groupbit_ = 0;
   for (Fix *f : modify->get_fix_by_style("^freeze")) freeze_groupbit_ |= f->groupbit;
-  fix_rigid_ = nullptr;
+  fix_rigid_ = nullptr;  // the first rigid-body fix, as the LAMMPS built-ins do
   for (Fix *f : modify->get_fix_list())
-    if (f->rigid_flag) fix_rigid_ = f;
+    if (f->rigid_flag) {
+      fix_rigid_ = f;
+      break;
+    }
+  comm_forward = fix_rigid_ ? 1 : 0;
   compute_type_radii();
 
   const int max_type = max_type_present();
@@ -223,14 +227,9 @@ double PairGran::init_one(int i, int j)
 double PairGran::effective_mass(int i, int j) const
 {
   double mi = atom->rmass[i], mj = atom->rmass[j];
-  if (fix_rigid_) {
-    int dim;
-    auto *body = static_cast<int *>(fix_rigid_->extract("body", dim));
-    auto *masstotal = static_cast<double *>(fix_rigid_->extract("masstotal", dim));
-    if (body && masstotal) {
-      if (body[i] >= 0) mi = masstotal[body[i]];
-      if (body[j] >= 0) mj = masstotal[body[j]];
-    }
+  if (fix_rigid_ && int(mass_rigid_.size()) > std::max(i, j)) {
+    if (mass_rigid_[i] > 0.0) mi = mass_rigid_[i];
+    if (mass_rigid_[j] > 0.0) mj = mass_rigid_[j];
   }
   double meff = mi * mj / (mi + mj);
   if (atom->mask[i] & freeze_groupbit_) meff = mj;
@@ -260,14 +259,9 @@ void PairGran::compute(int eflag, int vflag)
   if (history_ && !history_->list_valid())
     error->one(FLERR, "pair_style " + style_name_ + ": contact history is not aligned with the neighbour list (internal error)");
 
-  // fix rigid bodies: body masses, looked up per pair only when such a fix exists
-  int *body = nullptr;
-  double *masstotal = nullptr;
-  if (fix_rigid_) {
-    int dim;
-    body = static_cast<int *>(fix_rigid_->extract("body", dim));
-    masstotal = static_cast<double *>(fix_rigid_->extract("masstotal", dim));
-  }
+  // fix rigid: body masses of owned and ghost atoms, refreshed when the ghosts change
+  if (fix_rigid_ && neighbor->ago == 0) update_rigid_masses();
+  const double *mass_rigid = fix_rigid_ ? mass_rigid_.data() : nullptr;
 
   gran::ContactResult res;
   double scratch[6] = {0, 0, 0, 0, 0, 0};
@@ -278,14 +272,14 @@ void PairGran::compute(int eflag, int vflag)
       error->one(FLERR, "pair_style " + style_name_ + ": atom type " + std::to_string(itype) +
                             " appeared after init; the material table only covers types up to " + std::to_string(max_type));
     const bool ifrozen = mask[i] & freeze_groupbit_;
-    const double mi = (body && body[i] >= 0) ? masstotal[body[i]] : rmass[i];
+    const double mi = (mass_rigid && mass_rigid[i] > 0.0) ? mass_rigid[i] : rmass[i];
     const gran::SphereView a{x[i], v[i], omega[i], radius[i], mi};
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
     for (int jj = 0; jj < jnum; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
       double *hist = history_ ? history_->slot(i, jj) : scratch;
-      const double mj = (body && body[j] >= 0) ? masstotal[body[j]] : rmass[j];
+      const double mj = (mass_rigid && mass_rigid[j] > 0.0) ? mass_rigid[j] : rmass[j];
       const gran::SphereView b{x[j], v[j], omega[j], radius[j], mj};
       double meff = mi * mj / (mi + mj);
       if (ifrozen) meff = mj;
@@ -315,6 +309,30 @@ void PairGran::compute(int eflag, int vflag)
   }
   if (history_) history_->mark_updated();
   if (vflag_fdotr) virial_fdotr_compute();
+}
+
+void PairGran::update_rigid_masses()
+{
+  int dim;
+  auto *body = static_cast<int *>(fix_rigid_->extract("body", dim));
+  auto *masstotal = static_cast<double *>(fix_rigid_->extract("masstotal", dim));
+  if (!body || !masstotal)
+    error->all(FLERR, "pair_style " + style_name_ + ": the rigid-body fix " + std::string(fix_rigid_->id) +
+                          " does not provide body masses (extract 'body'/'masstotal')");
+  mass_rigid_.assign(atom->nmax, 0.0);
+  for (int i = 0; i < atom->nlocal; i++) mass_rigid_[i] = body[i] >= 0 ? masstotal[body[i]] : 0.0;
+  comm->forward_comm(this);
+}
+
+int PairGran::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/, int * /*pbc*/)
+{
+  for (int k = 0; k < n; k++) buf[k] = mass_rigid_[list[k]];
+  return n;
+}
+
+void PairGran::unpack_forward_comm(int n, int first, double *buf)
+{
+  for (int k = 0; k < n; k++) mass_rigid_[first + k] = buf[k];
 }
 
 // Restart: the settings words, then the material properties the model used (LIGGGHTS loses them).

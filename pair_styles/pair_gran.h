@@ -30,6 +30,8 @@ class PairGran : public LAMMPS_NS::Pair {
   double init_one(int i, int j) override;
   void init_list(int id, LAMMPS_NS::NeighList *ptr) override;
   void write_restart(FILE *fp) override;
+  int pack_forward_comm(int n, int *list, double *buf, int pbc_flag, int *pbc) override;
+  void unpack_forward_comm(int n, int first, double *buf) override;
   void read_restart(FILE *fp) override;
 
  private:
@@ -42,6 +44,8 @@ class PairGran : public LAMMPS_NS::Pair {
   int freeze_groupbit_ = 0;
   FixContactHistory *history_ = nullptr;
   LAMMPS_NS::Fix *fix_rigid_ = nullptr;  // body masses replace particle masses (spec §2)
+  std::vector<double> mass_rigid_;        // per owned+ghost atom: its body's mass, 0 if none
+  void update_rigid_masses();
   // Material properties kept in the restart file; a fix property/global of the same name wins.
   std::map<std::string, property::GlobalProperty> restart_properties_;
 

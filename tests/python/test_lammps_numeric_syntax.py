@@ -48,14 +48,16 @@ DECKS = {
     "chute_hooke": ("in.chute.lammps", "pair_style gran/hooke/history 200000.0 NULL 50.0 NULL 0.5 0", ["-var", "nsteps", "1000"]),
     "chute_hertz": ("in.chute.lammps", "pair_style gran/hertz/history 200000.0 NULL 50.0 NULL 0.5 0", ["-var", "nsteps", "1000"]),
     "settle_small": ("in.settle.small", "pair_style gran/hooke/history 200000.0 NULL 50.0 NULL 0.5 1", []),
+    "rigid_clumps": ("in.rigid_clumps", "pair_style gran/hooke/history 200000.0 NULL 50.0 NULL 0.5 1", []),
 }
+DECK_DIR = {"in.rigid_clumps": os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "decks")}
 
 
 @pytest.mark.parametrize("nprocs", [1, 2])
 @pytest.mark.parametrize("name", sorted(DECKS))
 def test_plugin_equals_builtin(tmp_path, name, nprocs):
     deck, pair_style, extra = DECKS[name]
-    shutil.copy(os.path.join(BENCH, deck), tmp_path)
+    shutil.copy(os.path.join(DECK_DIR.get(deck, BENCH), deck), tmp_path)
     if deck == "in.chute.lammps":
         os.symlink(os.path.join(BENCH, "data.chute"), tmp_path / "data.chute")
     ref_thermo, ref_dump = _run(str(tmp_path), deck, [pair_style, "pair_coeff * *"], nprocs, "builtin", extra)

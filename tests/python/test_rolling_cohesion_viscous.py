@@ -106,3 +106,17 @@ def test_cohesion_force_is_energy_density_times_area(model):
     a2 = R * R - (r / 2) ** 2  # radius² of the intersection circle of two equal spheres
     area = math.pi * a2 if model == "sjkr" else 2 * math.pi * R * delta
     assert f[1, 0] == pytest.approx(hooke_kn() * delta - k * area, rel=1e-9)
+
+
+def test_run_pre_no_continues_the_history_bitwise():
+    """`run 10` + `run 5 pre no` must equal `run 15`: no setup, so the contact history in
+    neighbour-list order carries over unchanged."""
+    def final(runs):
+        lmp = two_spheres("gran/hertz/history", -2e-5, v=0.0)
+        lmp.command("set atom 1 vy 0.3")
+        for r in runs:
+            lmp.command(r)
+        out = np.concatenate([gathered(lmp, q) for q in ("x", "v", "omega", "f", "torque")])
+        lmp.close()
+        return out
+    assert np.array_equal(final(["run 15"]), final(["run 10", "run 5 pre no post no"]))

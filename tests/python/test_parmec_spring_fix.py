@@ -186,6 +186,63 @@ def test_oracle_spring_curve_tests_prescribed():
     assert worst <= 1e-12
 
 
+def test_oracle_friction_check_prescribed():
+    """spring_friction_check: point-to-plane springs (plane z = 0, normal +z, fixed in space) with
+    friction 0.3, kskn 0 (sliding) and 0.5 (fast: slip; slow: stick), constant prescribed velocity:
+    F, SF, FF per step through LAMMPS equal Parmec's (friction displacement carried in the fix)."""
+    import json
+    from lammps import LMP_STYLE_LOCAL, LMP_TYPE_ARRAY
+    d = os.path.join(ORACLE, "spring_friction_check")
+    m = json.load(open(os.path.join(d, "meta.json")))
+    with open(os.path.join(d, "history.csv")) as f:
+        rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+    h = m["step"]
+    num = lambda a: " ".join(repr(float(x)) for x in a)  # noqa: E731
+    lines = ["units si", "atom_style sphere", "boundary f f f", "region box block -10 20 -10 10 -10 10",
+             "create_box 1 box"]
+    spr = [f"table K {num(m['spring'])}", f"table D {num(m['dashpot'])}"]
+    x0 = []
+    for s_ in range(3):
+        x0.append([rows[0][f"p{s_}_P{c}"] for c in "XYZ"])
+        lines.append(f"create_atoms 1 single {num(x0[-1])} units box")
+        spr.append(f"spring {s_} {s_ + 1} centre -1 0 0 0 K dashpot D plane 0 0 1 friction {m['friction']!r} "
+                   f"kskn {m['kskn'][s_]!r}")
+    lmp = new_lammps()
+    got = []
+    try:
+        run_lines(lines + ["set group all diameter 0.5 mass 1", "fix S all parmec/spring " + " ".join(spr),
+                           f"timestep {h!r}", "thermo 0"], lmp)
+        for r in range(len(rows)):
+            for s_ in range(3):
+                v = m["velocity"][s_]
+                if r == 0:
+                    x = [x0[s_][c] + 0.5 * h * v[c] for c in range(3)]
+                elif r == 1:
+                    x = [rows[1][f"p{s_}_P{c}"] - h * v[i] for i, c in enumerate("XYZ")]
+                else:
+                    x = [rows[r - 1][f"p{s_}_P{c}"] for c in "XYZ"]
+                lmp.command(f"set atom {s_ + 1} x {x[0]!r} y {x[1]!r} z {x[2]!r} vx {v[0]!r} vy {v[1]!r} vz {v[2]!r}")
+            lmp.command("run 1 pre no post no")
+            a = lmp.numpy.extract_fix("S", LMP_STYLE_LOCAL, LMP_TYPE_ARRAY)
+            got.append({int(row[0]): list(row) for row in a})
+    finally:
+        lmp.close()
+    sticking = 0
+    for s_ in range(3):
+        pre = f"spr{s_}_"
+        scale = max(abs(r[pre + "F"]) for r in rows)
+        dF = max(max(abs(g[s_][3] - r[pre + "F"]), abs(g[s_][4] - r[pre + "SF"]), abs(g[s_][5] - r[pre + "FF"]))
+                 for g, r in zip(got[1:], rows[1:])) / scale
+        dG = max(max(abs(g[s_][2] - r[pre + "STROKE"]), abs(g[s_][1] - r[pre + "LENGTH"]))
+                 for g, r in zip(got[1:], rows[1:]))
+        print(f"[agreement] spring_friction_check spring {s_} (kskn {m['kskn'][s_]}) through LAMMPS: "
+              f"F,SF,FF {dF:.2e} relative, STROKE/LENGTH {dG:.1e} abs")
+        assert dF <= 1e-12 and dG <= 1e-15
+        if m["kskn"][s_] > 0:
+            sticking += sum(1 for g in got[1:] if g[s_][5] < 0.999999 * m["friction"] * abs(g[s_][3]))
+    assert sticking > 0
+
+
 def critical_of(lines):
     from lammps import LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR
     lmp = new_lammps()

@@ -500,6 +500,42 @@ def test_net_1000_atoms_1_2_4_ranks(tmp_path):
         assert dx <= 1e-12
 
 
+def periodic_deck(tmp, periodic, steps=4000):
+    """A ring of 12 atoms around x = 0 joined by follower springs, atom 1 anchored at a spatial point;
+    the ring drifts in +x. Periodic box [-4, 4): springs cross the boundary (closest image) and the
+    anchored atom wraps (unwrapped coordinates); the non-periodic reference box is wide enough."""
+    box = "-4 4 -4 4 -4 4" if periodic else "-4 30 -4 4 -4 4"
+    lines = ["units si", "atom_style sphere", f"boundary {'p' if periodic else 'f'} f f", "atom_modify map array",
+             "comm_modify vel yes cutoff 2.5", "processors * 1 1", f"region box block {box}", "create_box 1 box"]
+    spr = ["table K -1 -1e3 1 1e3", "table D -1 -2 1 2", "spring 100 1 centre -1 3.5 0 0 K dashpot D"]
+    for i in range(12):
+        a = 2 * math.pi * i / 12
+        lines.append(f"create_atoms 1 single {3.0 * math.cos(a)!r} {3.0 * math.sin(a)!r} 0 units box")
+        spr.append(f"spring {i + 1} {i + 1} centre {(i + 1) % 12 + 1} centre K dashpot D")
+    return lines + ["set group all diameter 0.3 density 1000", "velocity all set 2.0 0.3 0 units box",
+                    "fix S all parmec/spring " + " ".join(spr), "fix I all nve/sphere", "timestep 1e-3",
+                    f"dump A all custom {steps} {tmp}/atom.dump id xu yu zu vx vy vz",
+                    "dump_modify A sort id format float %.17g", f"run {steps}"]
+
+
+def test_periodic_images_and_anchor(tmp_path):
+    res = {}
+    for periodic, np_ in ((False, 1), (True, 1), (True, 2)):
+        d = tmp_path / f"p{int(periodic)}_np{np_}"
+        d.mkdir()
+        run_lmp(d, periodic_deck(d, periodic), np_)
+        res[(periodic, np_)] = last(d / "atom.dump")
+    ref = res[(False, 1)]
+    scale = max(abs(v) for r in ref for v in r[1:4])
+    moved = max(r[1] for r in ref)
+    for key in ((True, 1), (True, 2)):
+        dx = max(abs(a - b) for r1, r2 in zip(ref, res[key]) for a, b in zip(r1[1:], r2[1:])) / scale
+        print(f"[agreement] periodic ring (wrapped, {key[1]} rank(s)) vs non-periodic: {dx:.2e} relative; "
+              f"max unwrapped x {moved:.2f}")
+        assert dx <= 1e-12
+    assert moved > 4.0  # atoms crossed the periodic boundary
+
+
 def test_restart_equals_continuous(tmp_path):
     cont, first, second = (tmp_path / n for n in ("cont", "first", "second"))
     for d in (cont, first, second):

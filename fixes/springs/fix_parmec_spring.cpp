@@ -183,6 +183,60 @@ FixParmecSpring::FixParmecSpring(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
 
   reference_geometry();
   initial_states();
+
+  if (hist_every_ > 0) {
+    for (long hid : hist_ids_) {
+      int found = -1;
+      for (std::size_t s = 0; s < defs_.size(); s++)
+        if (defs_[s].id == hid) found = static_cast<int>(s);
+      if (found < 0)
+        error->all(FLERR, cmd_ + ": history: spring ID " + std::to_string(hid) + " is not defined");
+      hist_pos_[found] = static_cast<int>(hist_pos_.size());
+    }
+    nevery = hist_every_;
+    if (comm->me == 0) {
+      hist_fp_ = fopen(hist_file_.c_str(), "w");
+      if (!hist_fp_) error->one(FLERR, cmd_ + ": history: cannot open file '" + hist_file_ + "' for writing");
+      fprintf(hist_fp_, "TIME");
+      for (long hid : hist_ids_)
+        for (const char *c : {"LENGTH", "STROKE", "F", "SF", "FF", "SS"}) fprintf(hist_fp_, ",spr%ld_%s", hid, c);
+      fprintf(hist_fp_, "\n");
+      fflush(hist_fp_);
+    }
+  }
+}
+
+// History rows: the values of the step just completed, labelled with the LAMMPS time.
+void FixParmecSpring::end_of_step()
+{
+  if (hist_every_ <= 0) return;
+  const std::size_t nh = hist_ids_.size();
+  std::vector<double> vals(6 * nh, 0.0), all(6 * nh, 0.0);
+  for (int i = 0; i < atom->nlocal; i++) {
+    const std::size_t nsp = slots_[i].size() / kSlot;
+    for (std::size_t s = 0; s < nsp; s++) {
+      const double *slot = &slots_[i][s * kSlot];
+      auto it = hist_pos_.find(static_cast<int>(slot[0]));
+      if (it == hist_pos_.end()) continue;
+      sp::SpringState st;
+      st.unpack(slot + 1);
+      double *o = &vals[6 * std::size_t(it->second)];
+      o[0] = st.length;
+      o[1] = st.stroke;
+      o[2] = st.force_total;
+      o[3] = st.force_elastic;
+      o[4] = st.friction_force;
+      o[5] = st.code;
+    }
+  }
+  MPI_Allreduce(vals.data(), all.data(), static_cast<int>(6 * nh), MPI_DOUBLE, MPI_SUM, world);
+  if (hist_fp_) {
+    const double t = update->atime + (update->ntimestep - update->atimestep) * update->dt;
+    fprintf(hist_fp_, "%.17g", t);
+    for (double v : all) fprintf(hist_fp_, ",%.17g", v);
+    fprintf(hist_fp_, "\n");
+    fflush(hist_fp_);
+  }
 }
 
 FixParmecSpring::~FixParmecSpring()
@@ -190,11 +244,12 @@ FixParmecSpring::~FixParmecSpring()
   atom->delete_callback(id, Atom::GROW);
   atom->delete_callback(id, Atom::RESTART);
   memory->destroy(array_local);
+  if (hist_fp_) fclose(hist_fp_);
 }
 
 int FixParmecSpring::setmask()
 {
-  return POST_FORCE | MIN_POST_FORCE;
+  return POST_FORCE | MIN_POST_FORCE | (hist_every_ > 0 ? END_OF_STEP : 0);
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -245,6 +300,17 @@ void FixParmecSpring::parse(std::vector<std::string> tok, const std::string &whe
       need(1, "a file name");
       read_file(tok[i + 1]);
       i += 2;
+    } else if (kw == "history") {
+      need(2, "a file name, an interval N and spring IDs");
+      hist_file_ = tok[i + 1];
+      const double every = number(tok[i + 2], "history interval N", where);
+      if (every < 1 || every != std::floor(every))
+        error->all(FLERR, cmd_ + " (" + where + "): history: interval N must be an integer >= 1, got '" + tok[i + 2] + "'");
+      hist_every_ = static_cast<int>(every);
+      i += 3;
+      while (i < tok.size() && is_number(tok[i])) hist_ids_.push_back(std::lround(number(tok[i++], "history spring ID", where)));
+      if (hist_ids_.empty())
+        error->all(FLERR, cmd_ + " (" + where + "): history: expected at least one spring ID after the interval");
     } else if (kw == "start") {
       need(1, "'lammps' or 'parmec'");
       if (tok[i + 1] == "parmec")
@@ -256,7 +322,7 @@ void FixParmecSpring::parse(std::vector<std::string> tok, const std::string &whe
       i += 2;
     } else {
       error->all(FLERR, cmd_ + " (" + where + "): unknown keyword '" + kw +
-                            "' (expected table, tseries, spring, file or start)");
+                            "' (expected table, tseries, spring, file, history or start)");
     }
   }
 }

@@ -35,6 +35,7 @@ class FixParmecSpring : public LAMMPS_NS::Fix {
   void min_setup(int) override;
   void post_force(int) override;
   void min_post_force(int) override;
+  void end_of_step() override;
 
   void grow_arrays(int nmax) override;
   void copy_arrays(int i, int j, int delflag) override;
@@ -116,6 +117,12 @@ class FixParmecSpring : public LAMMPS_NS::Fix {
   enum class Mode { Commit, Trial, Setup };
   void evaluate(Mode mode);
   void grow_local(int n);
+  // 'history FILE N SPRID ...': CSV of chosen springs every N steps (rank 0 writes)
+  std::string hist_file_;
+  int hist_every_ = 0;
+  std::vector<long> hist_ids_;
+  std::unordered_map<int, int> hist_pos_;  // spring index -> column group
+  FILE *hist_fp_ = nullptr;
   void critical();
   double crit_[2] = {0.0, 0.0};
   LAMMPS_NS::bigint crit_step_ = -1;

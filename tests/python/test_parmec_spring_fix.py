@@ -352,7 +352,7 @@ def chain_deck(tmp, steps, n=40, restart_at=None, read=None, extra=()):
                  "variable vy atom 0.3*sin(id*0.7)", "variable vz atom 0.05*cos(id*1.3)",
                  "velocity all set 0 v_vy v_vz units box"]
     body += ["neighbor 0.5 bin", "neigh_modify every 1 delay 0 check yes",
-             "fix S all parmec/spring " + " ".join(spr),
+             "fix S all parmec/spring " + " ".join(spr) + f" history {tmp}/hist.csv 100 1 7 40 79",
              "fix I all nve/sphere", "fix G all gravity 9.81 vector 0 -1 0", "timestep 1e-3",
              *extra]
     body += [f"dump A all custom {steps} {tmp}/atom.dump id x y z vx vy vz fx fy fz",
@@ -393,7 +393,7 @@ def test_chain_one_vs_two_ranks(tmp_path):
         d = tmp_path / f"np{np_}"
         d.mkdir()
         log = run_lmp(d, chain_deck(d, steps), np_)
-        res[np_] = (last(d / "atom.dump"), local_by_id(last(d / "loc.dump")), log)
+        res[np_] = (last(d / "atom.dump"), local_by_id(last(d / "loc.dump")), (d / "hist.csv").read_text())
     a1, a2 = res[1][0], res[2][0]
     assert len(a1) == len(a2) == 40
     scale = max(abs(v) for r in a1 for v in r[1:4])
@@ -408,6 +408,11 @@ def test_chain_one_vs_two_ranks(tmp_path):
     assert moved > 1.0 and crossed > 0
     assert dx / scale <= 1e-12
     assert dl <= 1e-12
+    # history file: same on both decompositions, last row = the local output of the last step
+    assert res[1][2] == res[2][2]
+    hist = list(csv.reader(res[1][2].splitlines()))
+    assert hist[0][:3] == ["TIME", "spr1_LENGTH", "spr1_STROKE"] and len(hist) == 1 + steps // 100
+    assert [float(v) for v in hist[-1][1 + 6 * 1:7 + 6 * 1]] == l1[7][:6]
 
 
 def hub_deck(tmp, steps, n=70):

@@ -185,10 +185,10 @@ FixParmecSpring::FixParmecSpring(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
   initial_states();
 
   if (hist_every_ > 0) {
+    std::unordered_map<long, int> index;
+    for (std::size_t s = 0; s < defs_.size(); s++) index[defs_[s].id] = static_cast<int>(s);
     for (long hid : hist_ids_) {
-      int found = -1;
-      for (std::size_t s = 0; s < defs_.size(); s++)
-        if (defs_[s].id == hid) found = static_cast<int>(s);
+      const int found = index.count(hid) ? index[hid] : -1;
       if (found < 0)
         error->all(FLERR, cmd_ + ": history: spring ID " + std::to_string(hid) + " is not defined");
       hist_pos_[found] = static_cast<int>(hist_pos_.size());
@@ -348,8 +348,7 @@ void FixParmecSpring::parse_spring(const std::vector<std::string> &tok, std::siz
   LawNames n;
   d.id = integer(next("spring ID"), "spring ID");
   const std::string who = ctx + " " + std::to_string(d.id);
-  for (const SpringDef &o : defs_)
-    if (o.id == d.id) error->all(FLERR, who + ": spring ID defined twice");
+  if (!spring_ids_.insert(d.id).second) error->all(FLERR, who + ": spring ID defined twice");
   auto point = [&](bool &centre, sp::Vec3 &P, const std::string &what) {
     const std::string &t = next(what);
     if (t == "centre" || t == "center") {
@@ -598,9 +597,10 @@ void FixParmecSpring::setup(int)
       const int idx = static_cast<int>(slots_[i][s * kSlot]);
       const SpringDef &d = defs_[idx];
       if (d.tag2 < 0) continue;
+      const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
       int k = atom->map(d.tag2);
       if (k < 0) continue;  // reported below by evaluate() with the atom IDs
-      k = domain->closest_image(i, k);
+      if (periodic) k = domain->closest_image(i, k);
       const double r = sp::norm(vec(atom->x[k]) - vec(atom->x[i]));
       if (r > cutghost_ && r / cutghost_ > worst.ratio) {
         worst.ratio = r / cutghost_;
@@ -668,6 +668,7 @@ void FixParmecSpring::evaluate(Mode mode)
   const double dt = update->dt;
   const double tnow = update->atime + (update->ntimestep - update->atimestep) * dt;
   const sp::Vec3 zero3{0, 0, 0};
+  const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
 
   int rows = 0;
   for (int i = 0; i < nlocal; i++) rows += slots_[i].size() / kSlot;
@@ -711,7 +712,7 @@ void FixParmecSpring::evaluate(Mode mode)
           error->one(FLERR, fmt::format("{}: spring {}: part2 atom {} is not available to the owner of part1 atom {} "
                                         "(not a ghost, or lost): raise 'comm_modify cutoff' above the longest spring",
                                         cmd_, d.id, d.tag2, d.tag1));
-        k = domain->closest_image(i, k);
+        if (periodic) k = domain->closest_image(i, k);
         const double r = sp::norm(vec(x[k]) - vec(x[i]));
         if (r > cutghost_)
           error->one(FLERR, fmt::format("{}: spring {} between atoms {} and {} is {:.6g} long, longer than the ghost "

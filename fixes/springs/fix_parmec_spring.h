@@ -21,6 +21,7 @@
 #include <map>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 namespace dembridge {
@@ -82,6 +83,7 @@ class FixParmecSpring : public LAMMPS_NS::Fix {
     std::string spring, dashpot, unload, offset;
   };
   std::vector<LawNames> names_;
+  std::unordered_set<long> spring_ids_;
   std::string cmd_;  // "fix ID parmec/spring" for messages
   std::map<std::string, springs::SpringTable> tables_;
   std::map<std::string, springs::TimeSeries> tseries_;

@@ -1,0 +1,861 @@
+// fix mbdyn: see fix_mbdyn.h and doc/fix_mbdyn.md.
+#include "fix_mbdyn.h"
+
+#include "atom.h"
+#include "bond.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "group.h"
+#include "modify.h"
+#include "pair.h"
+#include "timer.h"
+#include "update.h"
+
+#include "peer_session.h"
+#include "protocol_error.h"
+#include "style_registry.h"
+
+#include <mpi.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <sstream>
+
+using namespace LAMMPS_NS;
+using namespace LAMMPS_NS::FixConst;
+namespace mb = dembridge::mbdyn;
+
+namespace dembridge {
+
+namespace {
+
+using M9 = std::array<double, 9>;
+using V3 = std::array<double, 3>;
+
+V3 mat_vec(const M9 &R, const double *v)
+{
+  return {R[0] * v[0] + R[1] * v[1] + R[2] * v[2], R[3] * v[0] + R[4] * v[1] + R[5] * v[2],
+          R[6] * v[0] + R[7] * v[1] + R[8] * v[2]};
+}
+V3 mat_t_vec(const M9 &R, const double *v)
+{
+  return {R[0] * v[0] + R[3] * v[1] + R[6] * v[2], R[1] * v[0] + R[4] * v[1] + R[7] * v[2],
+          R[2] * v[0] + R[5] * v[1] + R[8] * v[2]};
+}
+M9 mat_mul(const M9 &A, const M9 &B)
+{
+  M9 C{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) C[3 * i + j] += A[3 * i + k] * B[3 * k + j];
+  return C;
+}
+V3 cross(const double *a, const double *b)
+{
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+
+// Rotation matrix (row-major) <-> unit quaternion (w, x, y, z), for the sub-step slerp.
+std::array<double, 4> quat_from(const M9 &R)
+{
+  std::array<double, 4> q{};
+  const double tr = R[0] + R[4] + R[8];
+  if (tr > 0) {
+    const double s = 2.0 * std::sqrt(tr + 1.0);
+    q = {0.25 * s, (R[7] - R[5]) / s, (R[2] - R[6]) / s, (R[3] - R[1]) / s};
+  } else if (R[0] > R[4] && R[0] > R[8]) {
+    const double s = 2.0 * std::sqrt(1.0 + R[0] - R[4] - R[8]);
+    q = {(R[7] - R[5]) / s, 0.25 * s, (R[1] + R[3]) / s, (R[2] + R[6]) / s};
+  } else if (R[4] > R[8]) {
+    const double s = 2.0 * std::sqrt(1.0 + R[4] - R[0] - R[8]);
+    q = {(R[2] - R[6]) / s, (R[1] + R[3]) / s, 0.25 * s, (R[5] + R[7]) / s};
+  } else {
+    const double s = 2.0 * std::sqrt(1.0 + R[8] - R[0] - R[4]);
+    q = {(R[3] - R[1]) / s, (R[2] + R[6]) / s, (R[5] + R[7]) / s, 0.25 * s};
+  }
+  const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  for (double &c : q) c /= n;
+  return q;
+}
+M9 mat_from(const std::array<double, 4> &q)
+{
+  const double w = q[0], x = q[1], y = q[2], z = q[3];
+  return {1 - 2 * (y * y + z * z), 2 * (x * y - z * w),     2 * (x * z + y * w),
+          2 * (x * y + z * w),     1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
+          2 * (x * z - y * w),     2 * (y * z + x * w),     1 - 2 * (x * x + y * y)};
+}
+M9 slerp(const M9 &A, const M9 &B, double s)
+{
+  if (s >= 1.0) return B;
+  if (s <= 0.0) return A;
+  auto qa = quat_from(A), qb = quat_from(B);
+  double d = qa[0] * qb[0] + qa[1] * qb[1] + qa[2] * qb[2] + qa[3] * qb[3];
+  if (d < 0) {
+    for (double &c : qb) c = -c;
+    d = -d;
+  }
+  std::array<double, 4> q{};
+  if (d > 0.9999995) {
+    for (int i = 0; i < 4; ++i) q[i] = qa[i] + s * (qb[i] - qa[i]);
+  } else {
+    const double th = std::acos(d), st = std::sin(th);
+    const double a = std::sin((1 - s) * th) / st, b = std::sin(s * th) / st;
+    for (int i = 0; i < 4; ++i) q[i] = a * qa[i] + b * qb[i];
+  }
+  const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  for (double &c : q) c /= n;
+  return mat_from(q);
+}
+
+bool parse_yes_no(const std::string &kw, const std::string &v, const std::string &prefix, Error *error)
+{
+  if (v == "yes") return true;
+  if (v == "no") return false;
+  error->all(FLERR, prefix + "keyword '" + kw + "' expects yes or no, got '" + v + "'");
+}
+
+double parse_double(const std::string &kw, const std::string &v, const std::string &prefix, Error *error,
+                    const char *expected)
+{
+  try {
+    std::size_t used = 0;
+    const double d = std::stod(v, &used);
+    if (used == v.size() && std::isfinite(d)) return d;
+  } catch (const std::exception &) {
+  }
+  error->all(FLERR, prefix + "keyword '" + kw + "' expects " + expected + ", got '" + v + "'");
+}
+
+long long parse_int(const std::string &kw, const std::string &v, const std::string &prefix, Error *error,
+                    const char *expected, long long lo)
+{
+  try {
+    std::size_t used = 0;
+    const long long d = std::stoll(v, &used);
+    if (used == v.size() && d >= lo) return d;
+  } catch (const std::exception &) {
+  }
+  error->all(FLERR, prefix + "keyword '" + kw + "' expects " + expected + ", got '" + v + "'");
+}
+
+const char *kKeywords =
+    "path, port, host, create, coupling, orientation, labels, accelerations, reference_node, node, "
+    "substeps, mbdyn_dt, gravity, connect_timeout, io_timeout, tolerance, max_iterations";
+
+}  // namespace
+
+FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), options_(std::make_unique<mb::SessionOptions>()), kin_(std::make_unique<mb::Kinematics>())
+{
+  const std::string prefix = where() + ": ";
+  mb::SessionOptions &o = *options_;
+  std::string path, host = "127.0.0.1";
+  long long port = -1;
+  bool substeps_given = false;
+  for (int i = 3; i < narg; ++i) {
+    const std::string kw = arg[i];
+    auto value = [&](const char *expected) -> std::string {
+      if (i + 1 >= narg)
+        error->all(FLERR, prefix + "keyword '" + kw + "' expects " + expected + ", but the command ends there");
+      return arg[++i];
+    };
+    if (kw == "path") {
+      path = value("a socket file name");
+    } else if (kw == "port") {
+      port = parse_int(kw, value("a TCP port number"), prefix, error, "a TCP port number (1-65535)", 1);
+      if (port > 65535) error->all(FLERR, prefix + "keyword 'port' expects a TCP port number (1-65535), got " + std::to_string(port));
+    } else if (kw == "host") {
+      host = value("a host name or address");
+    } else if (kw == "create") {
+      o.role = parse_yes_no(kw, value("yes or no"), prefix, error) ? mb::SocketRole::MbdynCreates
+                                                                  : mb::SocketRole::PeerCreates;
+    } else if (kw == "coupling") {
+      const std::string v = value("loose or tight");
+      if (v == "loose") o.coupling = mb::Coupling::Loose;
+      else if (v == "tight") o.coupling = mb::Coupling::Tight;
+      else error->all(FLERR, prefix + "keyword 'coupling' expects loose or tight, got '" + v + "'");
+    } else if (kw == "orientation") {
+      const std::string v = value("none, vector, matrix or euler123");
+      if (v == "none") o.nodal.rotation = mb::Rotation::None;
+      else if (v == "vector") o.nodal.rotation = mb::Rotation::OrientationVector;
+      else if (v == "matrix") o.nodal.rotation = mb::Rotation::OrientationMatrix;
+      else if (v == "euler123") o.nodal.rotation = mb::Rotation::Euler123;
+      else error->all(FLERR, prefix + "keyword 'orientation' expects none, vector, matrix or euler123, got '" + v + "'");
+    } else if (kw == "labels") {
+      o.nodal.labels = parse_yes_no(kw, value("yes or no"), prefix, error);
+    } else if (kw == "accelerations") {
+      o.nodal.accelerations = parse_yes_no(kw, value("yes or no"), prefix, error);
+    } else if (kw == "reference_node") {
+      o.nodal.reference_node = parse_yes_no(kw, value("yes or no"), prefix, error);
+    } else if (kw == "node") {
+      const std::string what = value("'atom ATOM-ID' or 'group GROUP-ID'");
+      NodeSpec n;
+      if (what == "atom") {
+        const std::string v = value("an atom ID");
+        n.is_atom = true;
+        n.tag = static_cast<tagint>(parse_int("node atom", v, prefix, error, "a positive atom ID", 1));
+        n.text = "atom " + v;
+      } else if (what == "group") {
+        n.is_atom = false;
+        n.group = value("a group ID");
+        const int g = group->find(n.group);
+        if (g < 0)
+          error->all(FLERR, prefix + "node " + std::to_string(nodes_.size() + 1) + ": group '" + n.group +
+                                "' does not exist (define it with the group command before fix mbdyn)");
+        n.groupbit = group->bitmask[g];
+        n.text = "group " + n.group;
+      } else {
+        error->all(FLERR, prefix + "keyword 'node' expects 'atom ATOM-ID' or 'group GROUP-ID', got '" + what + "'");
+      }
+      nodes_.push_back(n);
+    } else if (kw == "substeps") {
+      substeps_ = static_cast<int>(parse_int(kw, value("a positive integer"), prefix, error, "a positive integer", 1));
+      substeps_given = true;
+    } else if (kw == "mbdyn_dt") {
+      mbdyn_dt_ = parse_double(kw, value("MBDyn's time step"), prefix, error, "MBDyn's time step (> 0)");
+      if (mbdyn_dt_ <= 0) error->all(FLERR, prefix + "keyword 'mbdyn_dt' expects MBDyn's time step (> 0), got " + arg[i]);
+    } else if (kw == "gravity") {
+      include_gravity_ = parse_yes_no(kw, value("yes or no"), prefix, error);
+    } else if (kw == "connect_timeout") {
+      o.connect_timeout_s = parse_double(kw, value("seconds"), prefix, error, "seconds (< 0: wait forever)");
+    } else if (kw == "io_timeout") {
+      o.io_timeout_s = parse_double(kw, value("seconds"), prefix, error, "seconds (< 0: wait forever)");
+    } else if (kw == "tolerance") {
+      tolerance_ = parse_double(kw, value("a tolerance"), prefix, error, "a tolerance >= 0");
+      if (tolerance_ < 0) error->all(FLERR, prefix + "keyword 'tolerance' expects a tolerance >= 0, got " + arg[i]);
+    } else if (kw == "max_iterations") {
+      max_iterations_ = static_cast<int>(parse_int(kw, value("a positive integer"), prefix, error, "a positive integer", 1));
+    } else {
+      error->all(FLERR, prefix + "unknown keyword '" + kw + "'; expected one of " + kKeywords);
+    }
+  }
+  if (path.empty() == (port < 0))
+    error->all(FLERR, prefix + "give exactly one socket: 'path FILE' (MBDyn `path`) or 'port N [host H]' (MBDyn `port`)");
+  if (nodes_.empty())
+    error->all(FLERR, prefix + "no MBDyn point given: add one 'node atom ID' or 'node group GROUP-ID' per point of the "
+                               "external structural element, in the element's order");
+  if (substeps_given && mbdyn_dt_ > 0)
+    error->all(FLERR, prefix + "give either 'substeps' or 'mbdyn_dt', not both");
+  for (std::size_t a = 0; a < nodes_.size(); ++a)
+    for (std::size_t b = a + 1; b < nodes_.size(); ++b)
+      if (nodes_[a].is_atom == nodes_[b].is_atom &&
+          (nodes_[a].is_atom ? nodes_[a].tag == nodes_[b].tag : nodes_[a].group == nodes_[b].group))
+        error->all(FLERR, prefix + "nodes " + std::to_string(a + 1) + " and " + std::to_string(b + 1) + " are both '" +
+                              nodes_[a].text + "': an atom can follow only one MBDyn point");
+  o.endpoint = path.empty() ? mb::Endpoint::tcp(host, static_cast<std::uint16_t>(port)) : mb::Endpoint::unix_path(path);
+  o.nodal.num_points = static_cast<std::uint32_t>(nodes_.size());
+  tight_ = o.coupling == mb::Coupling::Tight;
+  payload_.resize(o.nodal.kinematics_payload_bytes());
+
+  const int n = static_cast<int>(nodes_.size());
+  poseA_.resize(n);
+  poseB_.resize(n);
+  cur_.resize(n);
+  fsum_.assign(6 * n, 0.0);
+  sent_.assign(6 * n, 0.0);
+
+  vector_flag = 1;
+  size_vector = 4;
+  extvector = 0;
+  array_flag = 1;
+  size_array_rows = n;
+  size_array_cols = 6;
+  extarray = 0;
+  global_freq = 1;
+
+  // `create, no`: listen now, so MBDyn (which retries its connect for 60 s) can be started
+  // any time after this command (spec §1).
+  if (o.role == mb::SocketRole::PeerCreates) {
+    std::string err;
+    if (comm->me == 0) {
+      try {
+        listener_ = std::make_unique<mb::SocketListener>(o.endpoint);
+      } catch (const std::exception &e) {
+        err = e.what();
+      }
+    }
+    int len = static_cast<int>(err.size());
+    MPI_Bcast(&len, 1, MPI_INT, 0, world);
+    if (len) {
+      err.resize(len);
+      MPI_Bcast(&err[0], len, MPI_CHAR, 0, world);
+      error->all(FLERR, prefix + "cannot listen on " + o.endpoint.describe() + " (create no): " + err);
+    }
+  }
+}
+
+FixMBDyn::~FixMBDyn()
+{
+  // Leave MBDyn in a clean state (spec P13): if it already ended, read its 5; otherwise ask it
+  // to stop at the end of its step (5 instead of loads) and wait for its final 5. Bounded by
+  // io_timeout; after an error only the session's own abort (send 5) happens.
+  if (comm->me == 0 && session_ && !failed_ && !ended_ && !session_->finished()) {
+    try {
+      const bool answered = substep_ == 0 && !t0_answer_pending_;
+      bool done = false;
+      if (answered) done = !session_->receive().is_kinematics();
+      if (!done) {
+        session_->request_stop();
+        session_->receive();
+      }
+    } catch (const std::exception &) {
+    }
+  }
+  session_.reset();
+  listener_.reset();
+}
+
+std::string FixMBDyn::where() const { return std::string("Fix mbdyn (id ") + id + ")"; }
+
+int FixMBDyn::setmask()
+{
+  return PRE_EXCHANGE | POST_INTEGRATE | POST_FORCE | END_OF_STEP;
+}
+
+void FixMBDyn::fail_all(const std::string &why)
+{
+  failed_ = true;
+  if (comm->me == 0 && session_) session_->abort();  // MBDyn must not wait for us (spec P4)
+  std::fflush(nullptr);                             // dumps and logs written so far are kept
+  error->all(FLERR, where() + ": " + why);
+}
+
+void FixMBDyn::init()
+{
+  const std::string prefix = where() + ": ";
+  if (mbdyn_dt_ > 0) {
+    const double n = mbdyn_dt_ / update->dt;
+    const long long ni = std::llround(n);
+    if (ni < 1 || std::fabs(n - static_cast<double>(ni)) > 1e-6 * n)
+      error->all(FLERR, prefix + "mbdyn_dt " + std::to_string(mbdyn_dt_) + " must be an integer multiple of the LAMMPS "
+                 "timestep " + std::to_string(update->dt) + " (one MBDyn step = N LAMMPS steps)");
+    if (bound_ && ni != substeps_)
+      error->all(FLERR, prefix + "the LAMMPS timestep changed during the coupling: " + std::to_string(ni) +
+                            " substeps instead of " + std::to_string(substeps_));
+    substeps_ = static_cast<int>(ni);
+  }
+  if (!atom->tag_enable) error->all(FLERR, prefix + "requires atom IDs");
+  check_atoms();
+
+  // Gravity is included in the loads only if fix gravity's post_force runs before ours.
+  const int me = modify->find_fix(id);
+  for (int i = 0; i < modify->nfix; ++i) {
+    Fix *f = modify->fix[i];
+    if (std::strncmp(f->style, "gravity", 7) != 0) continue;
+    if (!include_gravity_ && i < me)
+      error->all(FLERR, prefix + "gravity no (the default) needs fix " + f->id + " (style " + f->style +
+                            ") to be defined after fix mbdyn, so the loads are read before gravity is added; "
+                            "move it, or use 'gravity yes' to send the coupled atoms' weight to MBDyn");
+    if (include_gravity_ && i > me)
+      error->all(FLERR, prefix + "gravity yes needs fix " + std::string(f->id) + " (style " + f->style +
+                            ") to be defined before fix mbdyn, so the loads are read after gravity is added");
+  }
+}
+
+void FixMBDyn::check_atoms()
+{
+  const std::string prefix = where() + ": ";
+  const int nlocal = atom->nlocal;
+  for (std::size_t k = 0; k < nodes_.size(); ++k) {
+    const NodeSpec &n = nodes_[k];
+    bigint count = 0;
+    if (n.is_atom) {
+      bigint mine = 0;
+      for (int i = 0; i < nlocal; ++i)
+        if (atom->tag[i] == n.tag) ++mine;
+      MPI_Allreduce(&mine, &count, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+      if (count == 0)
+        error->all(FLERR, prefix + "node " + std::to_string(k + 1) + " (" + n.text + "): no atom with ID " +
+                              std::to_string(n.tag) + " exists");
+    } else {
+      const int g = group->find(n.group);
+      if (g < 0)
+        error->all(FLERR, prefix + "node " + std::to_string(k + 1) + " (" + n.text + "): the group was deleted");
+      if (group->count(g) == 0)
+        error->all(FLERR, prefix + "node " + std::to_string(k + 1) + " (" + n.text + "): the group has no atoms");
+    }
+  }
+}
+
+void FixMBDyn::open_session()
+{
+  std::string err;
+  if (comm->me == 0) {
+    try {
+      if (listener_)
+        session_ = std::make_unique<mb::PeerSession>(mb::PeerSession::accept(*listener_, *options_));
+      else
+        session_ = std::make_unique<mb::PeerSession>(mb::PeerSession::open(*options_));
+    } catch (const std::exception &e) {
+      err = e.what();
+      if (err.empty()) err = "unknown error";
+    }
+  }
+  int len = static_cast<int>(err.size());
+  MPI_Bcast(&len, 1, MPI_INT, 0, world);
+  if (len) {
+    err.resize(len);
+    MPI_Bcast(&err[0], len, MPI_CHAR, 0, world);
+    fail_all("cannot couple to MBDyn over " + options_->endpoint.describe() + " (" +
+             (listener_ ? "create no: waiting for MBDyn to connect" : "create yes: connecting to MBDyn") +
+             ", connect_timeout " + std::to_string(options_->connect_timeout_s) + " s, " +
+             options_->nodal.describe() + ", " + mb::coupling_name(options_->coupling) + " coupling): " + err);
+  }
+}
+
+FixMBDyn::Message FixMBDyn::receive_broadcast(const char *expecting)
+{
+  Message m;
+  std::string err;
+  if (comm->me == 0) {
+    try {
+      const mb::Received r = session_->receive();
+      if (!r.is_kinematics()) {
+        m.status = 1;
+      } else {
+        m.command = static_cast<int>(session_->kinematics().command);
+        m.step = static_cast<long long>(r.step);
+        m.iteration = static_cast<int>(r.iteration);
+        const auto &raw = session_->raw_payload();
+        std::memcpy(payload_.data(), raw.data(), payload_.size());
+      }
+    } catch (const std::exception &e) {
+      m.status = 2;
+      err = e.what();
+    }
+  }
+  long long head[5] = {m.status, m.command, m.step, m.iteration, static_cast<long long>(err.size())};
+  MPI_Bcast(head, 5, MPI_LONG_LONG, 0, world);
+  m.status = static_cast<int>(head[0]);
+  m.command = static_cast<int>(head[1]);
+  m.step = head[2];
+  m.iteration = static_cast<int>(head[3]);
+  if (m.status == 2) {
+    err.resize(static_cast<std::size_t>(head[4]));
+    if (head[4]) MPI_Bcast(&err[0], static_cast<int>(head[4]), MPI_CHAR, 0, world);
+    fail_all(std::string("while waiting for ") + expecting + " at LAMMPS step " + std::to_string(update->ntimestep) +
+             " (MBDyn step " + std::to_string(mbdyn_step_) + "): " + err);
+  }
+  if (m.status == 0) {
+    if (!payload_.empty()) MPI_Bcast(payload_.data(), static_cast<int>(payload_.size()), MPI_BYTE, 0, world);
+    // Every rank decodes the same bytes (spec P5); rank 0 already validated them.
+    *kin_ = mb::decode_kinematics(options_->nodal, static_cast<mb::Command>(m.command), payload_.data(),
+                                  payload_.size());
+    ++messages_;
+  }
+  return m;
+}
+
+void FixMBDyn::decode_to_global(std::vector<Pose> &out)
+{
+  const mb::Kinematics &k = *kin_;
+  const bool rot = options_->nodal.has_rotation();
+  if (k.has_reference) {
+    ref_R_ = rot ? k.reference_rotation_matrix() : M9{1, 0, 0, 0, 1, 0, 0, 0, 1};
+    ref_x_ = k.reference.x;
+  }
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    Pose p;
+    const V3 x = k.position(i), v = k.velocity(i);
+    V3 w{0, 0, 0};
+    if (rot) w = {k.omega[3 * i], k.omega[3 * i + 1], k.omega[3 * i + 2]};
+    const M9 R = rot ? k.rotation_matrix(i) : M9{1, 0, 0, 0, 1, 0, 0, 0, 1};
+    if (!k.has_reference) {
+      p.x = x;
+      p.v = v;
+      p.w = w;
+      p.R = R;
+    } else {
+      // Points arrive relative to the reference node, in its frame (spec §4.3).
+      const V3 &xr = k.reference.x, &vr = k.reference.v;
+      const V3 wr = rot ? k.reference.omega : V3{0, 0, 0};
+      const V3 d = mat_vec(ref_R_, x.data());
+      const V3 wxd = cross(wr.data(), d.data());
+      const V3 vv = mat_vec(ref_R_, v.data());
+      const V3 ww = mat_vec(ref_R_, w.data());
+      for (int c = 0; c < 3; ++c) {
+        p.x[c] = xr[c] + d[c];
+        p.v[c] = vr[c] + wxd[c] + vv[c];
+        p.w[c] = wr[c] + ww[c];
+      }
+      p.R = mat_mul(ref_R_, R);
+    }
+    out[i] = p;
+  }
+}
+
+void FixMBDyn::bind_atoms()
+{
+  // Each coupled atom gets its body coordinates r relative to its point, in the point's frame,
+  // from the atom positions at the t0 message: x_atom = x_point + R r from then on. A single
+  // atom (node atom ID) sits on the point (r = 0).
+  std::unordered_map<tagint, int> atom_node;
+  for (std::size_t k = 0; k < nodes_.size(); ++k)
+    if (nodes_[k].is_atom) atom_node[nodes_[k].tag] = static_cast<int>(k);
+  std::vector<double> mine;
+  double **x = atom->x;
+  for (int i = 0; i < atom->nlocal; ++i) {
+    std::vector<int> hits;
+    auto it = atom_node.find(atom->tag[i]);
+    if (it != atom_node.end()) hits.push_back(it->second);
+    for (std::size_t k = 0; k < nodes_.size(); ++k)
+      if (!nodes_[k].is_atom && (atom->mask[i] & nodes_[k].groupbit)) hits.push_back(static_cast<int>(k));
+    for (int k : hits) {
+      double r[3] = {0, 0, 0};
+      if (!nodes_[k].is_atom) {
+        double d[3] = {x[i][0] - poseA_[k].x[0], x[i][1] - poseA_[k].x[1], x[i][2] - poseA_[k].x[2]};
+        domain->minimum_image(FLERR, d);
+        const V3 rl = mat_t_vec(poseA_[k].R, d);
+        r[0] = rl[0];
+        r[1] = rl[1];
+        r[2] = rl[2];
+      }
+      mine.insert(mine.end(), {static_cast<double>(atom->tag[i]), static_cast<double>(k), r[0], r[1], r[2]});
+    }
+  }
+  int nme = static_cast<int>(mine.size()), nprocs = comm->nprocs;
+  std::vector<int> counts(nprocs), displs(nprocs, 0);
+  MPI_Allgather(&nme, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  int total = 0;
+  for (int p = 0; p < nprocs; ++p) {
+    displs[p] = total;
+    total += counts[p];
+  }
+  std::vector<double> all(total);
+  MPI_Allgatherv(mine.data(), nme, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, world);
+  members_.clear();
+  std::vector<long long> per_node(nodes_.size(), 0);
+  for (int j = 0; j + 4 < total; j += 5) {
+    const tagint tag = static_cast<tagint>(all[j]);
+    Member m;
+    m.node = static_cast<int>(all[j + 1]);
+    m.r[0] = all[j + 2];
+    m.r[1] = all[j + 3];
+    m.r[2] = all[j + 4];
+    auto ins = members_.emplace(tag, m);
+    if (!ins.second)
+      fail_all("atom " + std::to_string(tag) + " belongs to node " + std::to_string(ins.first->second.node + 1) + " (" +
+               nodes_[ins.first->second.node].text + ") and to node " + std::to_string(m.node + 1) + " (" +
+               nodes_[m.node].text + "): an atom can follow only one MBDyn point");
+    ++per_node[m.node];
+  }
+  for (std::size_t k = 0; k < nodes_.size(); ++k)
+    if (per_node[k] == 0)
+      fail_all("node " + std::to_string(k + 1) + " (" + nodes_[k].text + "): no atom to couple");
+  allbits_ = 0;
+  bool any_atom = false;
+  for (const NodeSpec &n : nodes_) {
+    if (n.is_atom) any_atom = true;
+    else allbits_ |= n.groupbit;
+  }
+  if (any_atom) allbits_ = 0;  // no cheap mask filter then
+  bound_ = true;
+}
+
+void FixMBDyn::interpolate(double s, std::vector<Pose> &out) const
+{
+  // Cubic Hermite on positions (C1 with the velocities MBDyn sent), its derivative for the
+  // velocities, slerp for the orientation, linear angular velocity. s = j / N in (0, 1].
+  const double T = substeps_ * update->dt;
+  const double s2 = s * s, s3 = s2 * s;
+  const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2, h11 = s3 - s2;
+  const double d00 = 6 * s2 - 6 * s, d10 = 3 * s2 - 4 * s + 1, d01 = -6 * s2 + 6 * s, d11 = 3 * s2 - 2 * s;
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const Pose &A = poseA_[k], &B = poseB_[k];
+    Pose &P = out[k];
+    if (s >= 1.0) {
+      P = B;
+      continue;
+    }
+    for (int c = 0; c < 3; ++c) {
+      P.x[c] = h00 * A.x[c] + h10 * T * A.v[c] + h01 * B.x[c] + h11 * T * B.v[c];
+      P.v[c] = (d00 * A.x[c] + d01 * B.x[c]) / T + d10 * A.v[c] + d11 * B.v[c];
+      P.w[c] = (1 - s) * A.w[c] + s * B.w[c];
+    }
+    P.R = slerp(A.R, B.R, s);
+  }
+}
+
+void FixMBDyn::apply_pose(const std::vector<Pose> &poses, bool set_x)
+{
+  double **x = atom->x, **v = atom->v;
+  double **omega = atom->omega_flag ? atom->omega : nullptr;
+  const bool rot = options_->nodal.has_rotation();
+  const imageint image0 = ((imageint) IMGMAX << IMG2BITS) | ((imageint) IMGMAX << IMGBITS) | IMGMAX;
+  for (int i = 0; i < atom->nlocal; ++i) {
+    if (allbits_ && !(atom->mask[i] & allbits_)) continue;
+    auto it = members_.find(atom->tag[i]);
+    if (it == members_.end()) continue;
+    const Member &m = it->second;
+    const Pose &P = poses[m.node];
+    const V3 Rr = mat_vec(P.R, m.r);
+    const V3 wxr = cross(P.w.data(), Rr.data());
+    if (set_x) {
+      for (int c = 0; c < 3; ++c) x[i][c] = P.x[c] + Rr[c];
+      atom->image[i] = image0;
+      domain->remap(x[i], atom->image[i]);
+    }
+    for (int c = 0; c < 3; ++c) v[i][c] = P.v[c] + wxr[c];
+    if (omega && rot)
+      for (int c = 0; c < 3; ++c) omega[i][c] = P.w[c];
+  }
+}
+
+void FixMBDyn::accumulate_loads(const std::vector<Pose> &poses, std::vector<double> &out6)
+{
+  // Force on each point = sum of f of its atoms; moment about the point = sum of (x - x_p) x f
+  // plus the atoms' torques (spec §4.3: global frame, moment about the point).
+  const int n = static_cast<int>(nodes_.size());
+  std::vector<double> local(6 * n, 0.0);
+  double **x = atom->x, **f = atom->f;
+  double **torque = atom->torque_flag ? atom->torque : nullptr;
+  for (int i = 0; i < atom->nlocal; ++i) {
+    if (allbits_ && !(atom->mask[i] & allbits_)) continue;
+    auto it = members_.find(atom->tag[i]);
+    if (it == members_.end()) continue;
+    const int k = it->second.node;
+    double d[3] = {x[i][0] - poses[k].x[0], x[i][1] - poses[k].x[1], x[i][2] - poses[k].x[2]};
+    domain->minimum_image(FLERR, d);
+    const V3 m = cross(d, f[i]);
+    for (int c = 0; c < 3; ++c) {
+      local[6 * k + c] += f[i][c];
+      local[6 * k + 3 + c] += m[c] + (torque ? torque[i][c] : 0.0);
+    }
+  }
+  out6.assign(6 * n, 0.0);
+  MPI_Allreduce(local.data(), out6.data(), 6 * n, MPI_DOUBLE, MPI_SUM, world);
+}
+
+void FixMBDyn::send_answer(const std::vector<double> &loads6, bool converged, const char *what)
+{
+  const mb::NodalConfig &c = options_->nodal;
+  mb::Loads l(c);
+  V3 F0{0, 0, 0}, M0{0, 0, 0};
+  for (std::size_t k = 0; k < nodes_.size(); ++k) {
+    const double *F = &loads6[6 * k], *M = &loads6[6 * k + 3];
+    if (c.reference_node) {
+      // Loads in the reference node's frame (spec §4.3); the reference record carries the
+      // resultant about x_ref, in the reference frame (rotate reference node forces, yes).
+      const double dx[3] = {cur_[k].x[0] - ref_x_[0], cur_[k].x[1] - ref_x_[1], cur_[k].x[2] - ref_x_[2]};
+      const V3 dxf = cross(dx, F);
+      for (int a = 0; a < 3; ++a) {
+        F0[a] += F[a];
+        M0[a] += M[a] + dxf[a];
+      }
+      l.set_force(k, mat_t_vec(ref_R_, F));
+      if (c.has_rotation()) l.set_moment(k, mat_t_vec(ref_R_, M));
+    } else {
+      l.set_force(k, {F[0], F[1], F[2]});
+      if (c.has_rotation()) l.set_moment(k, {M[0], M[1], M[2]});
+    }
+  }
+  if (c.reference_node) {
+    l.reference_force = mat_t_vec(ref_R_, F0.data());
+    if (c.has_rotation()) l.reference_moment = mat_t_vec(ref_R_, M0.data());
+  }
+  sent_ = loads6;
+  std::string err;
+  if (comm->me == 0) {
+    try {
+      session_->send_loads(l, converged);
+    } catch (const std::exception &e) {
+      err = e.what();
+      if (err.empty()) err = "unknown error";
+    }
+  }
+  int len = static_cast<int>(err.size());
+  MPI_Bcast(&len, 1, MPI_INT, 0, world);
+  if (len) {
+    err.resize(len);
+    MPI_Bcast(&err[0], len, MPI_CHAR, 0, world);
+    fail_all(std::string("while sending ") + what + " at LAMMPS step " + std::to_string(update->ntimestep) +
+             " (MBDyn step " + std::to_string(mbdyn_step_) + "): " + err);
+  }
+  ++exchanges_;
+}
+
+void FixMBDyn::stop_run_at_end(const Message &)
+{
+  ended_ = true;
+  if (comm->me == 0)
+    error->warning(FLERR, where() + ": MBDyn ended the simulation (sent 5) after MBDyn step " +
+                              std::to_string(mbdyn_step_) + "; stopping this run at LAMMPS step " +
+                              std::to_string(update->ntimestep) + ", the coupled atoms are held still from now on");
+  for (Pose &p : cur_) {
+    p.v = {0, 0, 0};
+    p.w = {0, 0, 0};
+  }
+  apply_pose(cur_, false);
+  timer->force_timeout();
+}
+
+double FixMBDyn::pose_change(const std::vector<Pose> &a, const std::vector<Pose> &b) const
+{
+  double d = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    for (int c = 0; c < 3; ++c) d = std::max(d, std::fabs(a[k].x[c] - b[k].x[c]));
+    for (int c = 0; c < 9; ++c) d = std::max(d, std::fabs(a[k].R[c] - b[k].R[c]));
+  }
+  return d;
+}
+
+void FixMBDyn::setup_pre_exchange()
+{
+  if (ended_) return;
+  if (!bound_) {
+    open_session();
+    const Message m = receive_broadcast("MBDyn's initial (t0) kinematics");
+    if (m.status == 1)
+      fail_all("MBDyn ended the simulation (sent 5) before sending its initial kinematics");
+    decode_to_global(poseA_);
+    bind_atoms();
+    cur_ = poseA_;
+    poseB_ = poseA_;
+    t0_answer_pending_ = true;
+    mbdyn_step_ = 0;
+  }
+  apply_pose(cur_, true);
+}
+
+void FixMBDyn::setup(int)
+{
+  if (!t0_answer_pending_ || ended_) return;
+  // The t0 answer feeds MBDyn's initial derivatives; tight coupling answers it with 6 (spec T1).
+  std::vector<double> loads;
+  accumulate_loads(cur_, loads);
+  send_answer(loads, true, "the loads for MBDyn's initial state (t0)");
+  t0_answer_pending_ = false;
+  substep_ = 0;
+}
+
+void FixMBDyn::post_integrate()
+{
+  if (!bound_) return;
+  if (ended_) {
+    apply_pose(cur_, true);
+    return;
+  }
+  if (substep_ == 0) {
+    const Message m = receive_broadcast("MBDyn's kinematics of its next step");
+    if (m.status == 1) {
+      stop_run_at_end(m);
+      apply_pose(cur_, true);
+      return;
+    }
+    mbdyn_step_ = m.step;
+    decode_to_global(poseB_);
+    std::fill(fsum_.begin(), fsum_.end(), 0.0);
+  }
+  ++substep_;
+  interpolate(static_cast<double>(substep_) / substeps_, cur_);
+  apply_pose(cur_, true);
+}
+
+void FixMBDyn::reevaluate_forces(int vflag)
+{
+  // Tight iterate: only the forces are re-evaluated, for the coupled atoms at the iterate's
+  // pose and every other atom where it is. update->setupflag = 1 makes the granular pair styles
+  // (LAMMPS' and dembridge's) skip their contact-history update, as in a setup force call, so
+  // the trial evaluations do not accumulate shear history. Fixes defined before fix mbdyn get
+  // their post_force again; later ones run once, after the iterations.
+  in_reeval_ = true;
+  const int saved = update->setupflag;
+  update->setupflag = 1;
+  comm->forward_comm();
+  const int nall = atom->nlocal + atom->nghost;
+  double **f = atom->f;
+  for (int i = 0; i < nall; ++i) f[i][0] = f[i][1] = f[i][2] = 0.0;
+  if (atom->torque_flag)
+    for (int i = 0; i < nall; ++i) atom->torque[i][0] = atom->torque[i][1] = atom->torque[i][2] = 0.0;
+  if (force->pair) force->pair->compute(0, 0);
+  if (atom->molecular && force->bond) force->bond->compute(0, 0);
+  if (force->newton) comm->reverse_comm();
+  const int me = modify->find_fix(id);
+  for (int i = 0; i < me; ++i)
+    if (modify->fmask[i] & POST_FORCE) modify->fix[i]->post_force(vflag);
+  update->setupflag = saved;
+  in_reeval_ = false;
+}
+
+void FixMBDyn::post_force(int vflag)
+{
+  if (in_reeval_ || !bound_ || ended_ || substep_ == 0) return;
+  std::vector<double> loads;
+  accumulate_loads(cur_, loads);
+  if (substep_ < substeps_) {
+    for (std::size_t c = 0; c < loads.size(); ++c) fsum_[c] += loads[c];
+    return;
+  }
+  // Impulse-consistent average over the N sub-steps: F = (1/N) sum_j f(t_{k-1} + j h).
+  const double inv = 1.0 / substeps_;
+  auto average = [&](const std::vector<double> &last) {
+    std::vector<double> avg(last.size());
+    for (std::size_t c = 0; c < last.size(); ++c) avg[c] = (fsum_[c] + last[c]) * inv;
+    return avg;
+  };
+  if (!tight_) {
+    send_answer(average(loads), true, "the loads of MBDyn step (loose)");
+    last_iterations_ = 1;
+  } else {
+    int it = 0;
+    double change = -1.0;
+    for (;;) {
+      int converged = (it + 1 >= max_iterations_) || (it > 0 && change <= tolerance_);
+      MPI_Bcast(&converged, 1, MPI_INT, 0, world);  // rank 0 decides (spec P5)
+      send_answer(average(loads), converged != 0, converged ? "the converged loads (tight)" : "the loads of an iterate (tight)");
+      if (converged) break;
+      const Message m = receive_broadcast("MBDyn's next iterate (tight)");
+      if (m.status == 1) {
+        stop_run_at_end(m);
+        return;
+      }
+      std::vector<Pose> next(nodes_.size());
+      decode_to_global(next);
+      change = pose_change(poseB_, next);
+      poseB_ = next;
+      cur_ = next;
+      ++it;
+      apply_pose(cur_, true);
+      reevaluate_forces(vflag);
+      accumulate_loads(cur_, loads);
+    }
+    last_iterations_ = it + 1;
+  }
+  poseA_ = poseB_;
+  substep_ = 0;
+}
+
+void FixMBDyn::end_of_step()
+{
+  // Integrators must not move coupled atoms; if one did, its velocities are reset here.
+  if (bound_) apply_pose(cur_, false);
+}
+
+double FixMBDyn::compute_vector(int i)
+{
+  switch (i) {
+    case 0: return static_cast<double>(mbdyn_step_);
+    case 1: return static_cast<double>(last_iterations_);
+    case 2: return static_cast<double>(messages_);
+    case 3: return static_cast<double>(substeps_);
+  }
+  return 0.0;
+}
+
+double FixMBDyn::compute_array(int i, int j)
+{
+  return sent_[6 * i + j];
+}
+
+static void *create_fix_mbdyn(void *lmp, int narg, char **arg)
+{
+  return new FixMBDyn(static_cast<LAMMPS *>(lmp), narg, arg);
+}
+static RegisterStyle reg_fix_mbdyn("fix", "mbdyn", "coupling to MBDyn's external structural force (socket)",
+                                   create_fix_mbdyn);
+
+}  // namespace dembridge

@@ -1,0 +1,120 @@
+// fix mbdyn: LAMMPS as the peer of MBDyn's `external structural` force (issue 6).
+// Each MBDyn point is mapped to one atom or to a rigid group of atoms that follows the point's
+// pose and velocity; the loads the coupled atoms feel are summed about the point, reduced over
+// the MPI ranks and sent back. Loose coupling with sub-cycling, tight coupling with force
+// re-evaluation. Syntax and timelines: doc/fix_mbdyn.md.
+#pragma once
+
+#include "fix.h"
+
+#include <array>
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace dembridge::mbdyn {
+class PeerSession;
+class SocketListener;
+struct SessionOptions;
+struct Kinematics;
+}  // namespace dembridge::mbdyn
+
+namespace dembridge {
+
+class FixMBDyn : public LAMMPS_NS::Fix {
+ public:
+  FixMBDyn(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
+  ~FixMBDyn() override;
+
+  int setmask() override;
+  void init() override;
+  void setup_pre_exchange() override;
+  void setup(int vflag) override;
+  void pre_exchange() override {}
+  void post_integrate() override;
+  void post_force(int vflag) override;
+  void end_of_step() override;
+
+  double compute_vector(int i) override;
+  double compute_array(int i, int j) override;
+
+  // One pose of an MBDyn point in the global frame: position, orientation (row-major, local to
+  // global), velocity and angular velocity.
+  struct Pose {
+    std::array<double, 3> x{}, v{}, w{};
+    std::array<double, 9> R{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  };
+
+ private:
+  struct NodeSpec {
+    bool is_atom = true;
+    LAMMPS_NS::tagint tag = 0;
+    std::string group;
+    int groupbit = 0;
+    std::string text;  // "atom 17" or "group wall", for messages
+  };
+  struct Member {
+    int node = -1;
+    double r[3] = {0, 0, 0};  // body coordinates relative to the point, in the point's frame
+  };
+  // What rank 0 got from the socket, as every rank sees it after the broadcast.
+  struct Message {
+    int status = 0;  // 0 kinematics, 1 end of simulation (MBDyn sent 5), 2 error
+    int command = 0;
+    long long step = 0;
+    int iteration = 0;
+  };
+
+  std::string where() const;
+  [[noreturn]] void fail_all(const std::string &why);
+  void check_atoms();
+  void open_session();
+  Message receive_broadcast(const char *expecting);
+  void send_answer(const std::vector<double> &loads6, bool converged, const char *what);
+  void decode_to_global(std::vector<Pose> &out);
+  void bind_atoms();
+  void interpolate(double s, std::vector<Pose> &out) const;
+  void apply_pose(const std::vector<Pose> &poses, bool set_x);
+  void accumulate_loads(const std::vector<Pose> &poses, std::vector<double> &out6);
+  void reevaluate_forces(int vflag);
+  void stop_run_at_end(const Message &m);
+  double pose_change(const std::vector<Pose> &a, const std::vector<Pose> &b) const;
+
+  // configuration
+  std::vector<NodeSpec> nodes_;
+  std::unique_ptr<mbdyn::SessionOptions> options_;
+  int substeps_ = 1;
+  double mbdyn_dt_ = -1.0;
+  bool include_gravity_ = false;
+  bool tight_ = false;
+  double tolerance_ = 1e-9;
+  int max_iterations_ = 10;
+
+  // rank 0 only
+  std::unique_ptr<mbdyn::SocketListener> listener_;
+  std::unique_ptr<mbdyn::PeerSession> session_;
+
+  // every rank
+  std::vector<unsigned char> payload_;
+  std::unique_ptr<mbdyn::Kinematics> kin_;
+  std::array<double, 9> ref_R_{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  std::array<double, 3> ref_x_{};
+  bool bound_ = false;      // t0 exchanged, atoms bound to nodes
+  bool ended_ = false;      // MBDyn sent 5
+  bool failed_ = false;     // an error was raised: the destructor only aborts
+  bool in_reeval_ = false;  // tight re-evaluation in progress
+  int substep_ = 0;         // 0: the next step starts a new MBDyn step (receive)
+  bool t0_answer_pending_ = false;
+  std::unordered_map<LAMMPS_NS::tagint, Member> members_;
+  int allbits_ = 0;  // union of the group bits of coupled groups (0 if only atoms)
+  std::vector<Pose> poseA_, poseB_, cur_;
+  std::vector<double> fsum_;  // 6N sum of substep loads 1..N-1 of this MBDyn step
+  std::vector<double> sent_;  // 6N last loads sent, global frame
+  long long mbdyn_step_ = 0;
+  int last_iterations_ = 0;
+  long long messages_ = 0;
+  long long exchanges_ = 0;
+};
+
+}  // namespace dembridge

@@ -151,7 +151,11 @@ FixParmecSpring::FixParmecSpring(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
     try {
       d.law.validate();
     } catch (std::invalid_argument &e) {
-      error->all(FLERR, who + e.what());
+      std::string used = " (spring table " + n.spring;
+      if (!n.dashpot.empty()) used += ", dashpot table " + n.dashpot;
+      if (!n.unload.empty()) used += ", unload table " + n.unload;
+      if (!n.offset.empty()) used += ", offset tseries " + n.offset;
+      error->all(FLERR, who + e.what() + used + ")");
     }
     by_part1_[d.tag1].push_back(static_cast<int>(s));
     if (d.tag2 >= 0) has_pairs_ = true;
@@ -285,7 +289,7 @@ void FixParmecSpring::parse(std::vector<std::string> tok, const std::string &whe
         error->all(FLERR, who + "ID defined twice");
       try {
         if (kw == "table") {
-          tables_.emplace(tid, sp::SpringTable::from_pairs(xy, "table"));
+          tables_.emplace(tid, sp::SpringTable::from_pairs(xy, "values"));
         } else if (xy.size() == 1) {
           tseries_.emplace(tid, sp::TimeSeries::constant(xy[0]));
         } else {

@@ -558,6 +558,8 @@ void FixParmecSpring::initial_states()
 
 void FixParmecSpring::init()
 {
+  if (update->integrate_style && std::strncmp(update->integrate_style, "respa", 5) == 0)
+    error->all(FLERR, cmd_ + " does not support run_style respa (use run_style verlet)");
   if (has_pairs_ && atom->map_style == 0)
     error->all(FLERR, cmd_ + " needs an atom map (atom_modify map array or hash) to find part2 atoms");
   if (has_pairs_ && !comm->ghost_velocity)

@@ -716,6 +716,7 @@ BAD = {
                                                       "ghost cutoff", "comm_modify cutoff"]),
     "off_centre_no_quat": (T + "spring 1 1 0.2 0 0 2 centre K", ["spring 1", "quaternions", "bpm/sphere"]),
     "no_ghost_velocity": (T + "spring 1 1 centre 2 centre K", ["comm_modify vel yes"]),
+    "respa": (T + "spring 1 1 centre 2 centre K", ["does not support run_style respa"]),
     "file_missing": ("file /nonexistent/x.springs", ["file '/nonexistent/x.springs' cannot be opened"]),
     "duplicate_spring": (T + "spring 1 1 centre 2 centre K spring 1 2 centre 3 centre K", ["spring 1",
                                                                                            "defined twice"]),
@@ -728,6 +729,8 @@ def test_bad_input(name):
     lines = base_deck()
     if name == "no_ghost_velocity":
         lines = [l.replace("comm_modify vel yes", "comm_modify vel no") for l in lines]
+    if name == "respa":
+        lines = lines + ["run_style respa 2 2"]
     msg = error_of(lines + ["fix S all parmec/spring " + spec, "run 1"])
     assert msg is not None, f"{name}: no error"
     for e in expect:

@@ -142,9 +142,16 @@ long long parse_int(const std::string &kw, const std::string &v, const std::stri
   error->all(FLERR, prefix + "keyword '" + kw + "' expects " + expected + ", got '" + v + "'");
 }
 
+std::string num(double v)
+{
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g", v);
+  return buf;
+}
+
 const char *kKeywords =
     "path, port, host, create, coupling, orientation, labels, accelerations, reference_node, node, "
-    "substeps, mbdyn_dt, gravity, connect_timeout, io_timeout, tolerance, max_iterations";
+    "substeps, mbdyn_dt, loads, gravity, connect_timeout, io_timeout, tolerance, max_iterations";
 
 }  // namespace
 
@@ -218,6 +225,11 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
     } else if (kw == "mbdyn_dt") {
       mbdyn_dt_ = parse_double(kw, value("MBDyn's time step"), prefix, error, "MBDyn's time step (> 0)");
       if (mbdyn_dt_ <= 0) error->all(FLERR, prefix + "keyword 'mbdyn_dt' expects MBDyn's time step (> 0), got " + arg[i]);
+    } else if (kw == "loads") {
+      const std::string v = value("average or extrapolate");
+      if (v == "average") extrapolate_ = false;
+      else if (v == "extrapolate") extrapolate_ = true;
+      else error->all(FLERR, prefix + "keyword 'loads' expects average or extrapolate, got '" + v + "'");
     } else if (kw == "gravity") {
       include_gravity_ = parse_yes_no(kw, value("yes or no"), prefix, error);
     } else if (kw == "connect_timeout") {
@@ -331,8 +343,8 @@ void FixMBDyn::init()
     const double n = mbdyn_dt_ / update->dt;
     const long long ni = std::llround(n);
     if (ni < 1 || std::fabs(n - static_cast<double>(ni)) > 1e-6 * n)
-      error->all(FLERR, prefix + "mbdyn_dt " + std::to_string(mbdyn_dt_) + " must be an integer multiple of the LAMMPS "
-                 "timestep " + std::to_string(update->dt) + " (one MBDyn step = N LAMMPS steps)");
+      error->all(FLERR, prefix + "mbdyn_dt " + num(mbdyn_dt_) + " must be an integer multiple of the LAMMPS "
+                 "timestep " + num(update->dt) + " (one MBDyn step = N LAMMPS steps)");
     if (bound_ && ni != substeps_)
       error->all(FLERR, prefix + "the LAMMPS timestep changed during the coupling: " + std::to_string(ni) +
                             " substeps instead of " + std::to_string(substeps_));
@@ -346,9 +358,22 @@ void FixMBDyn::init()
   for (int i = 0; i < modify->nfix; ++i) {
     Fix *f = modify->fix[i];
     if (std::strncmp(f->style, "gravity", 7) != 0) continue;
+    // only a gravity fix acting on coupled atoms matters
+    bigint mine = 0, touched = 0;
+    for (int a = 0; a < atom->nlocal; ++a) {
+      if (!(atom->mask[a] & f->groupbit)) continue;
+      for (const NodeSpec &n : nodes_)
+        if (n.is_atom ? atom->tag[a] == n.tag : (atom->mask[a] & n.groupbit) != 0) {
+          ++mine;
+          break;
+        }
+    }
+    MPI_Allreduce(&mine, &touched, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+    if (touched == 0) continue;
     if (!include_gravity_ && i < me)
       error->all(FLERR, prefix + "gravity no (the default) needs fix " + f->id + " (style " + f->style +
-                            ") to be defined after fix mbdyn, so the loads are read before gravity is added; "
+                            ") to be defined after fix mbdyn (it acts on " + std::to_string(touched) +
+                            " coupled atoms), so the loads are read before gravity is added; "
                             "move it, or use 'gravity yes' to send the coupled atoms' weight to MBDyn");
     if (include_gravity_ && i > me)
       error->all(FLERR, prefix + "gravity yes needs fix " + std::string(f->id) + " (style " + f->style +
@@ -402,7 +427,7 @@ void FixMBDyn::open_session()
     MPI_Bcast(&err[0], len, MPI_CHAR, 0, world);
     fail_all("cannot couple to MBDyn over " + options_->endpoint.describe() + " (" +
              (listener_ ? "create no: waiting for MBDyn to connect" : "create yes: connecting to MBDyn") +
-             ", connect_timeout " + std::to_string(options_->connect_timeout_s) + " s, " +
+             ", connect_timeout " + num(options_->connect_timeout_s) + " s, " +
              options_->nodal.describe() + ", " + mb::coupling_name(options_->coupling) + " coupling): " + err);
   }
 }
@@ -728,6 +753,8 @@ void FixMBDyn::setup(int)
   std::vector<double> loads;
   accumulate_loads(cur_, loads);
   send_answer(loads, true, "the loads for MBDyn's initial state (t0)");
+  prev_avg_ = loads;
+  prev_is_t0_ = true;
   t0_answer_pending_ = false;
   substep_ = 0;
 }
@@ -792,7 +819,21 @@ void FixMBDyn::post_force(int vflag)
   }
   // Impulse-consistent average over the N sub-steps: F = (1/N) sum_j f(t_{k-1} + j h).
   const double inv = 1.0 / substeps_;
+  // With 'loads extrapolate' the average (centred (N-1) h / 2 before t_k) is shifted to t_k
+  // with the previous step's average: exact for loads linear in time, impulse kept up to a
+  // bounded end term. With N = 1 the average is already the end-of-step load.
+  const bool shift = extrapolate_ && substeps_ > 1 && prev_avg_.size() == fsum_.size();
   auto average = [&](const std::vector<double> &last) {
+    std::vector<double> avg(last.size());
+    for (std::size_t c = 0; c < last.size(); ++c) {
+      avg[c] = (fsum_[c] + last[c]) * inv;
+      // the right-end sub-step average is centred at t_k - (N-1) h / 2; the previous one N h
+      // earlier, the t0 loads (N+1) h / 2 earlier
+      if (shift) avg[c] += (avg[c] - prev_avg_[c]) * (substeps_ - 1.0) / (prev_is_t0_ ? substeps_ + 1.0 : 2.0 * substeps_);
+    }
+    return avg;
+  };
+  auto plain_average = [&](const std::vector<double> &last) {
     std::vector<double> avg(last.size());
     for (std::size_t c = 0; c < last.size(); ++c) avg[c] = (fsum_[c] + last[c]) * inv;
     return avg;
@@ -825,6 +866,8 @@ void FixMBDyn::post_force(int vflag)
     }
     last_iterations_ = it + 1;
   }
+  prev_avg_ = plain_average(loads);
+  prev_is_t0_ = false;
   poseA_ = poseB_;
   substep_ = 0;
 }

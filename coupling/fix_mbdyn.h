@@ -88,6 +88,7 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   double mbdyn_dt_ = -1.0;
   bool include_gravity_ = false;
   bool tight_ = false;
+  bool extrapolate_ = false;  // loads extrapolate: sub-step average shifted to the end of the step
   double tolerance_ = 1e-9;
   int max_iterations_ = 10;
 
@@ -111,6 +112,8 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   std::vector<Pose> poseA_, poseB_, cur_;
   std::vector<double> fsum_;  // 6N sum of substep loads 1..N-1 of this MBDyn step
   std::vector<double> sent_;  // 6N last loads sent, global frame
+  std::vector<double> prev_avg_;  // 6N sub-step average of the previous MBDyn step (or t0 loads)
+  bool prev_is_t0_ = true;
   long long mbdyn_step_ = 0;
   int last_iterations_ = 0;
   long long messages_ = 0;

@@ -153,6 +153,17 @@ def test_spring_mass_subcycled(sockdir):
     assert 1.8 < e4 / e2 < 2.3
 
 
+def test_spring_mass_subcycled_extrapolated_loads(sockdir):
+    """'loads extrapolate' shifts the sub-step average to the end of the MBDyn step: second order again."""
+    e4, _, _ = spring_mass_error(sockdir, 0.004, substeps=4, extra="loads extrapolate")
+    e2, _, _ = spring_mass_error(sockdir, 0.002, substeps=4, extra="loads extrapolate")
+    ea, _, _ = spring_mass_error(sockdir, 0.004, substeps=4)
+    print(f"sub-cycled N=4, loads extrapolate: dt_MBDyn=4ms {e4:.3e}, 2ms {e2:.3e} (ratio {e4 / e2:.2f}); "
+          f"loads average at 4ms {ea:.3e}")
+    assert e4 / e2 > 3.0
+    assert e4 < ea / 10
+
+
 def test_spring_mass_mbdyn_dt_keyword_matches_substeps(sockdir):
     e_a, rows_a, _ = spring_mass_error(sockdir, 0.004, substeps=4, T=0.4)
     sock = os.path.join(sockdir, "s.sock")
@@ -204,6 +215,40 @@ def test_spring_mass_tight(sockdir):
     assert (n_msgs - 1) / 500 > 2.0       # really iterates
     assert dev_tight < 1e-11
     assert dev_loose > 100 * dev_tight
+
+
+def test_spring_mass_over_tcp_and_with_create_no(sockdir):
+    """The same split spring-mass over TCP loopback (MBDyn `port`), and with MBDyn `create, no`
+    (LAMMPS listens from the fix command on, MBDyn connects): identical trajectories."""
+    ref = spring_mass_error(sockdir, 0.004, T=0.4)[1]
+    # TCP: the peer picks a free port and prints it
+    traj = os.path.join(sockdir, "tcp.txt")
+    p = subprocess.Popen([PEER, "--port", "0", "--accept-timeout", "30", "--io-timeout", "30", "--nodes", "1",
+                          "--orientation", "none", "--steps", "100", "--dt", "0.004", "--mass", str(M),
+                          "--x0", f"{X0},0,0", "--v0", "0,0,0", "--trajectory", traj],
+                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    port = int(p.stdout.readline().split("port")[1])
+    deck = spring_mass_deck("X", 0.004, 1, 100).replace("path X", f"port {port} host 127.0.0.1")
+    rc, out, _ = run_lammps(deck, sockdir)
+    p.communicate(timeout=60)
+    assert rc == 0 and p.returncode == 0, out[-2000:]
+    assert read_traj(traj) == ref
+    # create no: LAMMPS listens, the peer connects (retrying) once started
+    sock = os.path.join(sockdir, "cn.sock")
+    traj2 = os.path.join(sockdir, "cn.txt")
+    deck = spring_mass_deck(sock, 0.004, 1, 100).replace("node atom 1", "create no node atom 1")
+    path = os.path.join(sockdir, "in.cn")
+    open(path, "w").write(deck)
+    lmp = subprocess.Popen([lmp_executable(), "-in", path, "-nocite", "-log", "none", "-echo", "none",
+                            "-var", "plugin", plugin_path()], cwd=sockdir, stdout=subprocess.PIPE,
+                           stderr=subprocess.STDOUT, text=True, stdin=subprocess.DEVNULL)
+    peer = subprocess.run([PEER, "--path", sock, "--create", "no", "--accept-timeout", "30", "--io-timeout", "30",
+                           "--nodes", "1", "--orientation", "none", "--steps", "100", "--dt", "0.004", "--mass", str(M),
+                           "--x0", f"{X0},0,0", "--v0", "0,0,0", "--trajectory", traj2],
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
+    out, _ = lmp.communicate(timeout=60)
+    assert lmp.returncode == 0 and peer.returncode == 0, out[-2000:] + peer.stdout
+    assert read_traj(traj2) == ref
 
 
 def test_spring_mass_rank_invariance(sockdir):

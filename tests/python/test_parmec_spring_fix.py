@@ -426,6 +426,12 @@ def test_chain_one_vs_two_ranks(tmp_path):
         d.mkdir()
         log = run_lmp(d, chain_deck(d, steps), np_)
         res[np_] = (last(d / "atom.dump"), local_by_id(last(d / "loc.dump")), (d / "hist.csv").read_text())
+    # atom sorting (copy_arrays permutations of the per-atom spring states) must not change anything
+    d = tmp_path / "sorted"
+    d.mkdir()
+    log = run_lmp(d, chain_deck(d, steps, extra=["atom_modify sort 20 2.0"]), 1)
+    assert last(d / "atom.dump") == res[1][0] and local_by_id(last(d / "loc.dump")) == res[1][1]
+    assert "sorting therefore disabled" not in log
     a1, a2 = res[1][0], res[2][0]
     assert len(a1) == len(a2) == 40
     scale = max(abs(v) for r in a1 for v in r[1:4])

@@ -353,13 +353,9 @@ void FixMBDyn::init()
   if (!atom->tag_enable) error->all(FLERR, prefix + "requires atom IDs");
   check_atoms();
 
-  // Gravity is included in the loads only if fix gravity's post_force runs before ours.
-  const int me = modify->find_fix(id);
-  for (int i = 0; i < modify->nfix; ++i) {
-    Fix *f = modify->fix[i];
-    if (std::strncmp(f->style, "gravity", 7) != 0) continue;
-    // only a gravity fix acting on coupled atoms matters
-    bigint mine = 0, touched = 0;
+  // How many coupled atoms another fix acts on.
+  auto coupled_in = [&](Fix *f) {
+    bigint mine = 0, all = 0;
     for (int a = 0; a < atom->nlocal; ++a) {
       if (!(atom->mask[a] & f->groupbit)) continue;
       for (const NodeSpec &n : nodes_)
@@ -368,7 +364,25 @@ void FixMBDyn::init()
           break;
         }
     }
-    MPI_Allreduce(&mine, &touched, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+    MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+    return all;
+  };
+  const int me = modify->find_fix(id);
+  for (int i = 0; i < modify->nfix; ++i) {
+    Fix *f = modify->fix[i];
+    if (f == this || !f->time_integrate) continue;
+    const bigint n = coupled_in(f);
+    if (n > 0 && comm->me == 0)
+      error->warning(FLERR, prefix + "fix " + std::string(f->id) + " (style " + f->style + ") integrates " +
+                                std::to_string(n) + " coupled atoms; fix mbdyn overrides their motion, so leave "
+                                "them out of its group");
+  }
+  // Gravity is included in the loads only if fix gravity's post_force runs before ours.
+  for (int i = 0; i < modify->nfix; ++i) {
+    Fix *f = modify->fix[i];
+    if (std::strncmp(f->style, "gravity", 7) != 0) continue;
+    // only a gravity fix acting on coupled atoms matters
+    const bigint touched = coupled_in(f);
     if (touched == 0) continue;
     if (!include_gravity_ && i < me)
       error->all(FLERR, prefix + "gravity no (the default) needs fix " + f->id + " (style " + f->style +

@@ -215,6 +215,11 @@ def test_spring_mass_tight(sockdir):
     assert (n_msgs - 1) / 500 > 2.0       # really iterates
     assert dev_tight < 1e-11
     assert dev_loose > 100 * dev_tight
+    # tight with sub-cycling: the iterates re-evaluate the end-of-step sub-step only
+    ets, _, pout = spring_mass_error(sockdir, 0.004, substeps=4, coupling="tight",
+                                     extra="tolerance 1e-12 max_iterations 15 loads extrapolate")
+    print(f"tight, N=4, loads extrapolate: {ets:.3e} ({pout.strip()})")
+    assert ets < 2e-5
 
 
 def test_spring_mass_over_tcp_and_with_create_no(sockdir):
@@ -249,6 +254,29 @@ def test_spring_mass_over_tcp_and_with_create_no(sockdir):
     out, _ = lmp.communicate(timeout=60)
     assert lmp.returncode == 0 and peer.returncode == 0, out[-2000:] + peer.stdout
     assert read_traj(traj2) == ref
+
+
+def test_split_runs_and_integrated_coupled_atom_change_nothing(sockdir):
+    """Two `run` commands that split an MBDyn step (502 + 1498 LAMMPS steps, N = 4) continue the
+    coupling exactly; a coupled atom also integrated by fix nve/sphere gets a warning and its motion
+    is still MBDyn's."""
+    ref = spring_mass_error(sockdir, 0.004, substeps=4)[1]
+    for change in ("split", "integrated"):
+        sock = os.path.join(sockdir, "s.sock")
+        traj = os.path.join(sockdir, f"{change}.txt")
+        peer = Peer(sock, "--nodes", "1", "--orientation", "none", "--steps", "500", "--dt", "0.004",
+                    "--mass", str(M), "--x0", f"{X0},0,0", "--v0", "0,0,0", traj=traj)
+        deck = spring_mass_deck(sock, 0.001, 4, 2000)
+        if change == "split":
+            deck = deck.replace("run 2000", "run 502\nrun 1498")
+        else:
+            deck = deck.replace("fix S all", "fix I all nve/sphere\nfix S all")
+        rc, out, _ = run_lammps(deck, sockdir)
+        prc, pout = peer.finish()
+        assert rc == 0 and prc == 0, out[-2000:] + pout
+        if change == "integrated":
+            assert "fix I (style nve/sphere) integrates 1 coupled atoms" in out
+        assert read_traj(traj) == ref, change
 
 
 def test_spring_mass_rank_invariance(sockdir):

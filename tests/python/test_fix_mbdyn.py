@@ -288,8 +288,9 @@ def test_spring_mass_rank_invariance(sockdir):
 # ------------------------------------------------------------------------------------------------
 # B. rigid group: a 3x3x1 plate of particles follows a tilted, spinning MBDyn node (orientation
 #    matrix, point offset); free particles fly into it (gran/hooke/history, LAMMPS' own). The loads
-#    sent must equal the contact force (compute reduce over the plate's f) and the moment of the dumped forces
-#    and torques about the point, serial and on 2 ranks.
+#    sent must equal the contact force and moment about the point computed by LAMMPS computes
+#    (compute reduce over f, and over atom-style variables (x - x_com) x f + torque) and from the
+#    dumped forces and torques, serial and on 2 ranks.
 
 def plate_deck(sock, dump, steps=200, procs=""):
     return f"""plugin load ${{plugin}}
@@ -326,7 +327,16 @@ timestep 1e-4
 fix I bed nve/sphere
 fix M all mbdyn path {sock} node group plate orientation matrix connect_timeout 20 io_timeout 20
 compute gg plate reduce sum fx fy fz
-thermo_style custom step f_M[1][1] f_M[1][2] f_M[1][3] f_M[1][4] f_M[1][5] f_M[1][6] c_gg[1] c_gg[2] c_gg[3]
+compute pc plate com
+compute tq plate property/atom tqx tqy tqz
+variable xc equal c_pc[1]
+variable yc equal c_pc[2]
+variable zc equal c_pc[3]
+variable mx atom (y-v_yc)*fz-(z-v_zc)*fy+c_tq[1]
+variable my atom (z-v_zc)*fx-(x-v_xc)*fz+c_tq[2]
+variable mz atom (x-v_xc)*fy-(y-v_yc)*fx+c_tq[3]
+compute mm plate reduce sum v_mx v_my v_mz
+thermo_style custom step f_M[1][1] f_M[1][2] f_M[1][3] f_M[1][4] f_M[1][5] f_M[1][6] c_gg[1] c_gg[2] c_gg[3] c_mm[1] c_mm[2] c_mm[3]
 thermo_modify format float %.15g
 thermo 20
 dump d plate custom 20 {dump} id x y z fx fy fz tqx tqy tqz
@@ -384,7 +394,7 @@ def run_plate(sockdir, nprocs):
     prc, pout = peer.finish()
     assert rc == 0, out[-3000:]
     assert prc == 0, pout
-    return parse_thermo(out, 10), read_dump(dump)
+    return parse_thermo(out, 13), read_dump(dump)
 
 
 def test_rigid_group_loads_equal_independent_compute_serial_and_2_ranks(sockdir):
@@ -396,7 +406,7 @@ def test_rigid_group_loads_equal_independent_compute_serial_and_2_ranks(sockdir)
         for step, row in thermo.items():
             if step == 0 or step not in dump:
                 continue
-            F, Mo, gg = row[0:3], row[3:6], row[6:9]
+            F, Mo, gg, mm = row[0:3], row[3:6], row[6:9], row[9:12]
             atoms = dump[step]
             assert len(atoms) == 9
             c = [sum(a[k] for a in atoms) / 9 for k in (1, 2, 3)]   # the point = plate centroid
@@ -415,6 +425,7 @@ def test_rigid_group_loads_equal_independent_compute_serial_and_2_ranks(sockdir)
                 assert abs(F[k] - gg[k]) <= 1e-9 * scale + 1e-12, (step, F, gg)
                 assert abs(F[k] - fd[k]) <= 1e-9 * scale + 1e-12, (step, F, fd)
                 assert abs(Mo[k] - md[k]) <= 1e-8 * scale + 1e-12, (step, Mo, md)
+                assert abs(Mo[k] - mm[k]) <= 1e-8 * scale + 1e-12, (step, Mo, mm)
         assert hits >= 3, "the bed never touched the plate: the test checks nothing"
     s, p = results[1], results[2]
     assert s.keys() == p.keys()

@@ -351,6 +351,8 @@ void FixMBDyn::init()
     substeps_ = static_cast<int>(ni);
   }
   if (!atom->tag_enable) error->all(FLERR, prefix + "requires atom IDs");
+  if (update->integrate_style && std::strncmp(update->integrate_style, "respa", 5) == 0)
+    error->all(FLERR, prefix + "does not support run_style respa (it reads the loads in post_force); use run_style verlet");
   check_atoms();
 
   // How many coupled atoms another fix acts on.

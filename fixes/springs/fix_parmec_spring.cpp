@@ -39,7 +39,7 @@ namespace {
 constexpr int kState = sp::SpringState::kPackedSize;
 constexpr int kForce = 1 + kState;  // offset of the stored force in a slot
 constexpr int kValid = kForce + 3;  // 1 once the spring has committed a step
-constexpr int kCols = 7;            // id LENGTH STROKE F SF FF SS
+constexpr int kCols = 8;            // id LENGTH STROKE F SF FF SS EQM
 
 const char *const kSpringOptions[] = {"dashpot", "ratio",  "direction", "planar", "plane", "unload",
                                       "ylim",    "inactive", "offset",  "friction", "kskn"};
@@ -315,6 +315,15 @@ void FixParmecSpring::parse(std::vector<std::string> tok, const std::string &whe
       while (i < tok.size() && is_number(tok[i])) hist_ids_.push_back(std::lround(number(tok[i++], "history spring ID", where)));
       if (hist_ids_.empty())
         error->all(FLERR, cmd_ + " (" + where + "): history: expected at least one spring ID after the interval");
+    } else if (kw == "eqm") {
+      need(1, "'correct' or 'parmec'");
+      if (tok[i + 1] == "parmec")
+        q8_arm_ = true;
+      else if (tok[i + 1] == "correct")
+        q8_arm_ = false;
+      else
+        error->all(FLERR, cmd_ + " (" + where + "): eqm: expected 'correct' or 'parmec', got '" + tok[i + 1] + "'");
+      i += 2;
     } else if (kw == "start") {
       need(1, "'lammps' or 'parmec'");
       if (tok[i + 1] == "parmec")
@@ -326,7 +335,7 @@ void FixParmecSpring::parse(std::vector<std::string> tok, const std::string &whe
       i += 2;
     } else {
       error->all(FLERR, cmd_ + " (" + where + "): unknown keyword '" + kw +
-                            "' (expected table, tseries, spring, file, history or start)");
+                            "' (expected table, tseries, spring, file, history, start or eqm)");
     }
   }
 }
@@ -500,6 +509,7 @@ void FixParmecSpring::reference_geometry()
     const sp::Vec3 X1 = vec(a + 1);
     const Rot R1 = Rot::of(a + 4);
     const sp::Vec3 P1 = d.centre1 ? X1 : d.P1;
+    d.X1ref = X1;
     auto min_image = [&](sp::Vec3 v) {
       domain->minimum_image(FLERR, v[0], v[1], v[2]);
       return v;
@@ -516,6 +526,7 @@ void FixParmecSpring::reference_geometry()
       sp::Vec3 P2 = d.centre2 ? X2 : d.P2;
       P2 = P1 + min_image(P2 - P1);
       const sp::Vec3 X2n = P1 + min_image(X2 - P1);
+      d.X2ref = X2n;
       if (d.mode == sp::DirectionMode::Plane) {
         const sp::Vec3 Q = sp::plane_anchor(P1, P2, d.normal);
         d.arm2 = R2.apply_t(snap(Q - X2n, X2n));
@@ -669,8 +680,6 @@ void FixParmecSpring::evaluate(Mode mode)
   double **x = atom->x, **v = atom->v;
   double **omega = atom->omega_flag ? atom->omega : nullptr;
   double **quat = (atom->quat_flag && atom->quat) ? atom->quat : nullptr;
-  const double *rmass = atom->rmass_flag ? atom->rmass : nullptr;
-  const double *radius = atom->radius_flag ? atom->radius : nullptr;
   const double dt = update->dt;
   const double tnow = update->atime + (update->ntimestep - update->atimestep) * dt;
   const sp::Vec3 zero3{0, 0, 0};
@@ -681,16 +690,6 @@ void FixParmecSpring::evaluate(Mode mode)
   grow_local(rows);
   size_local_rows = rows;
   int row = 0;
-
-  auto body = [&](int i) {
-    const double m = rmass ? rmass[i] : atom->mass[atom->type[i]];
-    sp::BodyMass b;
-    b.mass = m;
-    const double J = radius ? 0.4 * m * radius[i] * radius[i] : 0.0;
-    const double inv = J > 0.0 ? 1.0 / J : 0.0;
-    b.inv_inertia = {inv, 0, 0, 0, inv, 0, 0, 0, inv};
-    return b;
-  };
 
   for (int i = 0; i < nlocal; i++) {
     const std::size_t nsp = slots_[i].size() / kSlot;
@@ -736,6 +735,7 @@ void FixParmecSpring::evaluate(Mode mode)
       state.unpack(slot + 1);
       sp::Vec3 F = zero3;
       bool apply = true;
+      double eqm = -1.0;
       if (mode == Mode::Setup && slot[kValid] != 0.0) {
         F = vec(slot + kForce);
       } else if (mode == Mode::Setup && parmec_start_) {
@@ -755,14 +755,11 @@ void FixParmecSpring::evaluate(Mode mode)
         in.time = tnow - dt;  // Parmec's label t_n of the positions x_{n+1/2} (kernel doc §5)
         in.dt = dt;
         try {
-          if (d.law.needs_equivalent_mass()) {
-            const sp::BodyMass b1 = body(i);
-            if (k >= 0) {
-              const sp::BodyMass b2 = body(k);
-              in.equivalent_mass = sp::equivalent_mass(b1, d.arm1, &b2, d.arm2, frame.z);
-            } else {
-              in.equivalent_mass = sp::equivalent_mass(b1, d.arm1, nullptr, zero3, frame.z);
-            }
+          eqm = spring_eqm(d, i, k, frame.z, q8_arm_);
+          in.equivalent_mass = std::isnan(eqm) ? 0.0 : eqm;
+          if (state.code >= 0) {
+            auto u = unspring_unload_.find(state.code);
+            in.unspring_unload = u == unspring_unload_.end() ? nullptr : u->second;
           }
           const sp::SpringForce f = sp::advance_spring(d.law, state, frame, in);
           F = f.on_part1;
@@ -789,6 +786,14 @@ void FixParmecSpring::evaluate(Mode mode)
       out[4] = state.force_elastic;
       out[5] = state.friction_force;
       out[6] = state.code;
+      if (eqm < 0.0 && !std::isnan(eqm)) {
+        try {
+          eqm = spring_eqm(d, i, k, d.mode == sp::DirectionMode::Constant ? d.d : state.direction, q8_arm_);
+        } catch (std::exception &e) {
+          error->one(FLERR, fmt::format("{}: spring {}: {}", cmd_, d.id, e.what()));
+        }
+      }
+      out[7] = eqm;
     }
   }
 
@@ -1026,9 +1031,9 @@ void FixParmecSpring::unpack_restart(int nlocal, int nth)
 // to the current positions.
 void FixParmecSpring::write_restart(FILE *fp)
 {
-  constexpr int kPer = 12;
+  constexpr int kPer = 18;
   std::vector<double> list(1 + kPer * defs_.size());
-  list[0] = static_cast<double>(defs_.size());
+  list[0] = -static_cast<double>(defs_.size());  // negative: 18 values per spring (with reference centres)
   for (std::size_t s = 0; s < defs_.size(); s++) {
     const SpringDef &d = defs_[s];
     double *o = &list[1 + kPer * s];
@@ -1040,6 +1045,10 @@ void FixParmecSpring::write_restart(FILE *fp)
       o[8 + c] = d.nref[c];
     }
     o[11] = d.stroke0;
+    for (int c = 0; c < 3; c++) {
+      o[12 + c] = d.X1ref[c];
+      o[15 + c] = d.X2ref[c];
+    }
   }
   if (comm->me == 0) {
     const int size = static_cast<int>(list.size() * sizeof(double));
@@ -1050,9 +1059,9 @@ void FixParmecSpring::write_restart(FILE *fp)
 
 void FixParmecSpring::restart(char *buf)
 {
-  constexpr int kPer = 12;
   const double *list = reinterpret_cast<const double *>(buf);
-  const std::size_t n = static_cast<std::size_t>(list[0]);
+  const int kPer = list[0] < 0 ? 18 : 12;  // 12: files written before the reference centres were stored
+  const std::size_t n = static_cast<std::size_t>(std::fabs(list[0]));
   bool match = n == defs_.size();
   for (std::size_t s = 0; match && s < n; s++)
     match = list[1 + kPer * s] == defs_[s].tag1 && list[2 + kPer * s] == defs_[s].tag2;
@@ -1068,8 +1077,135 @@ void FixParmecSpring::restart(char *buf)
       d.nref[c] = o[8 + c];
     }
     d.stroke0 = o[11];
+    if (kPer == 18)
+      for (int c = 0; c < 3; c++) {
+        d.X1ref[c] = o[12 + c];
+        d.X2ref[c] = o[15 + c];
+      }
+    else if (q8_arm_)
+      error->all(FLERR, cmd_ + ": 'eqm parmec' needs the reference centres, which this (older) restart file "
+                               "does not hold");
   }
   geometry_from_restart_ = true;
+}
+
+// EQM (spec §12) of spring d along dir (zero: largest point mass) with the sphere inertia 0.4 m r^2
+// of its atoms i (part1) and k (part2, or -1). q8: Parmec's spring-force arm 2X - P (quirk Q8).
+double FixParmecSpring::spring_eqm(const SpringDef &d, int i, int k, const sp::Vec3 &dir, bool q8) const
+{
+  const double *rmass = atom->rmass_flag ? atom->rmass : nullptr;
+  const double *radius = atom->radius_flag ? atom->radius : nullptr;
+  if (!rmass && !atom->mass) return NAN;  // no masses: EQM undefined (a ratio dashpot is an ERROR in init)
+  auto body = [&](int j, const sp::Vec3 &X) {
+    sp::BodyMass b;
+    b.mass = rmass ? rmass[j] : atom->mass[atom->type[j]];
+    const double J = radius ? 0.4 * b.mass * radius[j] * radius[j] : 0.0;
+    const double inv = J > 0.0 ? 1.0 / J : 0.0;
+    b.inv_inertia = {inv, 0, 0, 0, inv, 0, 0, 0, inv};
+    if (q8) b.centre = X;
+    return b;
+  };
+  if (!q8 && !zero(dir)) {
+    // isotropic inertia: d^T M^-1 d = |d|^2/m + (|A|^2 |d|^2 - (A.d)^2)/J per body (the kernel's
+    // equivalent_mass without the 3x3 matrices; equal to round-off)
+    const double dd = sp::dot(dir, dir);
+    double lambda = 0.0;
+    auto add = [&](int j, const sp::Vec3 &A) {
+      const double m = rmass ? rmass[j] : atom->mass[atom->type[j]];
+      const double J = radius ? 0.4 * m * radius[j] * radius[j] : 0.0;
+      lambda += dd / m;
+      if (J > 0.0) {
+        const double ad = sp::dot(A, dir);
+        lambda += (sp::dot(A, A) * dd - ad * ad) / J;
+      }
+    };
+    add(i, d.arm1);
+    if (k >= 0) add(k, d.arm2);
+    if (!(lambda > 0.0)) throw std::invalid_argument("EQM: the inverse mass matrix is not positive along the direction");
+    return 1.0 / lambda;
+  }
+  // Correct arm: centre 0, point = body-frame arm (A = -arm). Q8: centre X0, point X0 + arm.
+  const sp::BodyMass b1 = body(i, d.X1ref);
+  const sp::Vec3 p1 = q8 ? d.X1ref + d.arm1 : d.arm1;
+  const auto arm = q8 ? sp::EqmArm::ParmecQ8 : sp::EqmArm::Correct;
+  if (k >= 0) {
+    const sp::BodyMass b2 = body(k, d.X2ref);
+    return sp::equivalent_mass(b1, p1, &b2, q8 ? d.X2ref + d.arm2 : d.arm2, dir, arm);
+  }
+  return sp::equivalent_mass(b1, p1, nullptr, {0, 0, 0}, dir, arm);
+}
+
+int FixParmecSpring::spring_index(long spring_id) const
+{
+  for (std::size_t s = 0; s < defs_.size(); s++)
+    if (defs_[s].id == spring_id) return static_cast<int>(s);
+  return -1;
+}
+
+double FixParmecSpring::entity_value(int spring, Entity e) const
+{
+  if (e == Entity::EQM) {
+    for (int r = 0; r < size_local_rows && r < maxlocal_; r++)
+      if (array_local[r][0] == static_cast<double>(defs_[spring].id)) return array_local[r][7];
+    return NAN;
+  }
+  for (int i = 0; i < atom->nlocal; i++) {
+    const std::size_t nsp = slots_[i].size() / kSlot;
+    for (std::size_t s = 0; s < nsp; s++) {
+      const double *slot = &slots_[i][s * kSlot];
+      if (static_cast<int>(slot[0]) != spring) continue;
+      sp::SpringState st;
+      st.unpack(slot + 1);
+      switch (e) {
+        case Entity::Length: return st.length;
+        case Entity::Stroke: return st.stroke;
+        case Entity::F: return st.force_total;
+        case Entity::SF: return st.force_elastic;
+        case Entity::FF: return st.friction_force;
+        case Entity::SS: return st.code;
+        default: return NAN;
+      }
+    }
+  }
+  return NAN;
+}
+
+void FixParmecSpring::gather_entity(Entity e, std::vector<double> &out)
+{
+  std::vector<double> mine(defs_.size(), 0.0);
+  for (int i = 0; i < atom->nlocal; i++) {
+    const std::size_t nsp = slots_[i].size() / kSlot;
+    for (std::size_t s = 0; s < nsp; s++) {
+      const int idx = static_cast<int>(slots_[i][s * kSlot]);
+      mine[idx] = entity_value(idx, e);
+    }
+  }
+  out.assign(defs_.size(), 0.0);
+  MPI_Allreduce(mine.data(), out.data(), static_cast<int>(mine.size()), MPI_DOUBLE, MPI_SUM, world);
+}
+
+bool FixParmecSpring::set_state_code(int spring, int code)
+{
+  if (code < sp::kRegular) error->one(FLERR, cmd_ + ": set_state_code: code must be >= -3");
+  for (int i = 0; i < atom->nlocal; i++) {
+    const std::size_t nsp = slots_[i].size() / kSlot;
+    for (std::size_t s = 0; s < nsp; s++) {
+      double *slot = &slots_[i][s * kSlot];
+      if (static_cast<int>(slot[0]) != spring) continue;
+      sp::SpringState st;
+      st.unpack(slot + 1);
+      st.code = code;
+      st.pack(slot + 1);
+      return true;
+    }
+  }
+  return false;
+}
+
+void FixParmecSpring::set_unspring_unload(int code, const sp::SpringTable *curve)
+{
+  if (code < 0) error->all(FLERR, cmd_ + ": set_unspring_unload: code must be >= 0");
+  unspring_unload_[code] = curve;
 }
 
 double FixParmecSpring::memory_usage()

@@ -59,6 +59,25 @@ class FixParmecSpring : public LAMMPS_NS::Fix {
   // on part1 (3), flag "force valid" (1).
   static constexpr int kSlot = 1 + springs::SpringState::kPackedSize + 4;
 
+  // ---- API for UNSPRING (fixes/torsion/ glue; doc/fix_parmec_spring.md "API for UNSPRING") ----------
+  // Springs are numbered 0 .. spring_count()-1 in definition order (same on every rank).
+  enum class Entity { Length, Stroke, F, SF, FF, SS, EQM };
+  int spring_count() const { return static_cast<int>(defs_.size()); }
+  int spring_index(long spring_id) const;   // -1 if no spring has this ID
+  long spring_id(int spring) const { return defs_[spring].id; }
+  // Values of the last evaluation. Local: NaN unless this rank owns the spring's state (owns part1).
+  double entity_value(int spring, Entity e) const;
+  // Collective: the entity of every spring (index = spring), summed over ranks.
+  void gather_entity(Entity e, std::vector<double> &out);
+  // Set the state code (SS) of a spring on the rank that owns it (no-op on the others, returns whether
+  // it was set here): -3 regular, -2 UNSPRING-managed, -1 zero force, >= 0 unloaded with the curve
+  // registered for that code by set_unspring_unload(). Takes effect at the next step.
+  bool set_state_code(int spring, int code);
+  // Register the UNSPRING unload curve (strictly increasing, starting at 0) for state code >= 0. The
+  // table is owned by the caller and must outlive the fix. A code without a curve removes the spring
+  // at once (code -1), as Parmec's UNSPRING without an unload curve.
+  void set_unspring_unload(int code, const springs::SpringTable *curve);
+
  private:
   struct SpringDef {
     long id = 0;                 // user spring ID (output column 1)
@@ -76,6 +95,7 @@ class FixParmecSpring : public LAMMPS_NS::Fix {
     springs::Vec3 arm2{};        // body-frame arm on part2, or the spatial anchor point if tag2 < 0
     springs::Vec3 nref{};        // Plane: normal in part2's body frame (or spatial if tag2 < 0)
     double stroke0 = 0.0;
+    springs::Vec3 X1ref{}, X2ref{};  // reference centres (EQM with Parmec's Q8 arm)
   };
 
   // Names of the tables a spring refers to, resolved after all definitions are read.
@@ -92,6 +112,9 @@ class FixParmecSpring : public LAMMPS_NS::Fix {
   int max_per_atom_ = 0;
   bool has_pairs_ = false;     // some spring connects two atoms
   bool parmec_start_ = false;  // no spring force before the first committed step
+  bool q8_arm_ = false;        // 'eqm parmec': ratio dashpots use Parmec's arm 2X - P (quirk Q8)
+  std::unordered_map<int, const springs::SpringTable *> unspring_unload_;
+  double spring_eqm(const SpringDef &d, int i, int k, const springs::Vec3 &dir, bool q8) const;
   bool geometry_from_restart_ = false;
   double cutghost_ = 0.0;
 

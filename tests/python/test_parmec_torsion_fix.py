@@ -304,6 +304,42 @@ def test_cone_closed_form(tmp_path, cone):
 
 
 # ------------------------------------------------------------------------------------------------
+# two bodies: relative rate, opposite torques (closed-form recurrence), angular momentum conserved
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_two_bodies_relative_rate_and_opposite_torques(tmp_path, nprocs):
+    """Body 1 spun about the roll axis x, body 2 at rest, linear table k: with 'start parmec' the relative
+    roll follows a_m = a_(m-1) + h d_(m-1), d_m = d_(m-1) - 2 h k a_m / J (d = x.(w1 - w2)); the torques are
+    opposite, so w1 + w2 stays w0. On 2 ranks each body is owned by a different rank (part2 a ghost)."""
+    k, h, w0, mass, rad, steps = 400.0, 1e-3, 1.5, 2.0, 0.5, 2000
+    J = 0.4 * mass * rad * rad
+    lines = ["units si", "atom_style bpm/sphere", "boundary f f f", "atom_modify map array",
+             "comm_modify vel yes cutoff 2.5", "processors * 1 1", "region box block -3 4 -3 3 -3 3",
+             "create_box 1 box", "create_atoms 1 single 0 0 0 units box", "create_atoms 1 single 1 0 0 units box",
+             f"set group all diameter {2 * rad!r} mass {mass!r}", f"set atom 1 omega {w0!r} 0 0",
+             f"fix T all parmec/torsion start parmec table K -1 {k!r} 1 {-k!r} torsion 5 1 2 0 0 1 1 0 0 kroll K "
+             f"history {tmp_path}/h.csv 1 5",
+             "fix I all nve/bpm/sphere", f"timestep {h!r}",
+             f"dump A all custom {steps} {tmp_path}/atom.dump id omegax omegay omegaz",
+             "dump_modify A sort id format float %.17g", f"run {steps}"]
+    run_lmp(tmp_path, lines, nprocs)
+    rows = [l.split(",") for l in (tmp_path / "h.csv").read_text().splitlines()[1:]]
+    a, d, err, scale = 0.0, w0, 0.0, 0.0
+    for r in rows:
+        a = a + h * d
+        d = d - 2.0 * h * k * a / J
+        err = max(err, abs(float(r[1]) - a), abs(float(r[4]) + k * a) / k)
+        scale = max(scale, abs(a))
+    atoms = last(tmp_path / "atom.dump")
+    wsum = [atoms[0][c] + atoms[1][c] for c in (1, 2, 3)]
+    print(f"[agreement] two bodies ({nprocs} rank(s)): relative roll vs recurrence {err / scale:.1e}, "
+          f"w1 + w2 - w0 = {wsum[0] - w0:.1e}")
+    assert len(rows) == steps and err <= 1e-12 * scale and scale > 0.01
+    assert abs(wsum[0] - w0) <= 1e-14 and abs(wsum[1]) + abs(wsum[2]) <= 1e-14
+
+
+# ------------------------------------------------------------------------------------------------
 # (C) >= 500 bodies with torsion springs: 1, 2, 4 ranks; restart equals continuous
 
 

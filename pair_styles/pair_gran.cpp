@@ -276,22 +276,31 @@ void PairGran::compute(int eflag, int vflag)
     const gran::SphereView a{x[i], v[i], omega[i], radius[i], mi};
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
+    // per-atom bases of the list-order history and of the coefficient row, hoisted out of the pair loop
+    double *hist_i = history_ && jnum ? history_->slot(i, 0) : nullptr;
+    unsigned char *touch_i = history_ && jnum ? &history_->touched(i, 0) : nullptr;
+    const gran::PairCoeffs *coeff_row = &table_.at(itype, 0);
     for (int jj = 0; jj < jnum; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
-      double *hist = history_ ? history_->slot(i, jj) : scratch;
+      // cheap overlap test first: most neighbour entries are not in contact (the law repeats
+      // the same arithmetic, so both agree exactly)
+      const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+      const double radsum = radius[i] + radius[j];
+      if (dx * dx + dy * dy + dz * dz >= radsum * radsum) {
+        if (touch_i && touch_i[jj]) {  // 2.x and LAMMPS semantics: the springs vanish on separation
+          touch_i[jj] = 0;
+          for (int k = 0; k < nv; k++) hist_i[jj * nv + k] = 0.0;
+        }
+        continue;
+      }
+      double *hist = hist_i ? hist_i + jj * nv : scratch;
       const double mj = (mass_rigid && mass_rigid[j] > 0.0) ? mass_rigid[j] : rmass[j];
       const gran::SphereView b{x[j], v[j], omega[j], radius[j], mj};
       double meff = mi * mj / (mi + mj);
       if (ifrozen) meff = mj;
       if (mask[j] & freeze_groupbit_) meff = mi;
-      if (!law_.evaluate(a, b, meff, table_.at(itype, type[j]), hist, history_update, dt, res)) {
-        if (history_) {  // 2.x and LAMMPS semantics: the springs vanish when the pair separates
-          history_->touched(i, jj) = 0;
-          for (int k = 0; k < nv; k++) hist[k] = 0.0;
-        }
-        continue;
-      }
-      if (history_) history_->touched(i, jj) = 1;
+      law_.evaluate(a, b, meff, coeff_row[type[j]], hist, history_update, dt, res);
+      if (touch_i) touch_i[jj] = 1;
       for (int k = 0; k < 3; k++) {
         f[i][k] += res.F[k];
         torque[i][k] += res.Ti[k];

@@ -11,7 +11,7 @@
 
 namespace dembridge::gran {
 
-inline bool evaluate_lammps_gran(const ContactConfig &cfg, const SphereView &a, const SphereView &b, double meff,
+[[gnu::always_inline]] inline bool evaluate_lammps_gran(const ContactConfig &cfg, const SphereView &a, const SphereView &b, double meff,
                                  const PairCoeffs &pc, double *shear, bool update, double dt, ContactResult &out)
 {
   const double delx = a.x[0] - b.x[0], dely = a.x[1] - b.x[1], delz = a.x[2] - b.x[2];

@@ -579,13 +579,17 @@ def test_periodic_images_and_anchor(tmp_path):
     assert moved > 4.0  # atoms crossed the periodic boundary
 
 
-def test_restart_equals_continuous(tmp_path):
+@pytest.mark.parametrize("eqm", ["correct", "parmec"])
+def test_restart_equals_continuous(tmp_path, eqm):
+    """'eqm parmec' (Q8 arm 2X - P) needs the reference centres, which the restart file carries."""
     cont, first, second = (tmp_path / n for n in ("cont", "first", "second"))
     for d in (cont, first, second):
         d.mkdir()
-    run_lmp(cont, chain_deck(cont, 1200), 2)
-    run_lmp(first, chain_deck(first, 600, restart_at=str(first / "chain.restart")), 2)
-    run_lmp(second, chain_deck(second, 600, read=str(first / "chain.restart")), 2)
+    deck = lambda *a, **k: [l.replace("parmec/spring ", f"parmec/spring eqm {eqm} ", 1)  # noqa: E731
+                            for l in chain_deck(*a, **k)]
+    run_lmp(cont, deck(cont, 1200), 2)
+    run_lmp(first, deck(first, 600, restart_at=str(first / "chain.restart")), 2)
+    run_lmp(second, deck(second, 600, read=str(first / "chain.restart")), 2)
     a_c, a_r = last(cont / "atom.dump"), last(second / "atom.dump")
     l_c, l_r = local_by_id(last(cont / "loc.dump")), local_by_id(last(second / "loc.dump"))
     assert a_c == a_r, "atoms differ after restart"
@@ -726,6 +730,8 @@ BAD = {
     "file_missing": ("file /nonexistent/x.springs", ["file '/nonexistent/x.springs' cannot be opened"]),
     "duplicate_spring": (T + "spring 1 1 centre 2 centre K spring 1 2 centre 3 centre K", ["spring 1",
                                                                                            "defined twice"]),
+    "eqm_keyword": (T + "eqm q8 spring 1 1 centre 2 centre K ratio 0.1", ["eqm: expected 'correct' or 'parmec'",
+                                                                         "got 'q8'"]),
 }
 
 

@@ -307,7 +307,8 @@ DYNAMIC = {
     "spring_planar": ("spring_planar", "", lambda r, m: planar(r), dict(integrator="fix I all nve"), 0.1),
     "spring_chain": ("spring_chain", "", lambda r, m: chain(r, "dashpot D", "dashpot D"), dict(tmax=0.6), 2e-5),
     "spring_chain_critical_q8": ("spring_chain_critical", "", _chain_crit("parmec"), {}, 6e-3),
-    # Q8 fixed: unstable at the oracle's step (the correct, smaller EQM halves the damping), so h/2 and h/4;
+    # Q8 fixed: unstable at the oracle's step (the correct EQM of the links is far larger than Parmec's Q8
+    # value ~1.6, so the link dashpots are much stiffer; kernel doc §6), so h/2 and h/4;
     # the error against Parmec is the documented Q8 difference, not an integration error
     "spring_chain_critical_fixed": ("spring_chain_critical", "", _chain_crit("correct"), dict(refines=(2, 4)), 0.6),
     "spring_contact": ("spring_contact", "fixedQ1Q3", lambda r, m: contact(r, False), dict(tmax=1.0), 0.1),

@@ -343,6 +343,9 @@ def test_two_bodies_relative_rate_and_opposite_torques(tmp_path, nprocs):
 # (C) >= 500 bodies with torsion springs: 1, 2, 4 ranks; restart equals continuous
 
 
+UNSPRING_MAX, UNSPRING_NFREQ = 4.0, 60  # exceeded from step ~275, fires ~335: the count spans the restart at 300
+
+
 def grid_deck(tmp, steps, nx=25, ny=20, restart_at=None, read=None, first=None):
     """nx*ny = 500 bpm/sphere bodies drifting through the box (atoms change rank), each joined to its right
     and upper neighbour by torsion springs of varied laws (tables, damper tables, ratios, each cone), the
@@ -366,12 +369,24 @@ def grid_deck(tmp, steps, nx=25, ny=20, restart_at=None, read=None, first=None):
             if j + 1 < ny:
                 lines.append(f"torsion {sid} {a} {ident(i, j + 1)} 1 0 0 0 0.6 0.8 {laws[sid % 6]}"); sid += 1
     (tmp / "grid.torsion").write_text("\n".join(lines) + "\n")
-    fix = [f"fix T all parmec/torsion file {tmp}/grid.torsion history {tmp}/hist.csv 50 1 2 777"]
+    # translational springs along the bottom row (IDs 1..24) and an inactive one (25) for the UNSPRING rule
+    spr = ["table KS -1 -2000 1 2000"] + [f"spring {i + 1} {ident(i, 0)} centre {ident(i + 1, 0)} centre KS"
+                                           for i in range(nx - 1)]
+    spr.append(f"spring 25 {ident(0, 0)} centre {ident(0, 1)} centre KS inactive")
+    (tmp / "grid.springs").write_text("\n".join(spr) + "\n")
+    fix = [f"fix T all parmec/torsion file {tmp}/grid.torsion history {tmp}/hist.csv 50 1 2 777",
+           f"fix S all parmec/spring file {tmp}/grid.springs",
+           f"fix U all parmec/unspring S tseries 7 0 0 1 5000 rule tsprings 1 2 3 4 msprings 5 6 7 8 "
+           f"limits None {UNSPRING_MAX} entity SF abs operator SUM nfreq {UNSPRING_NFREQ} unload 7 activate 25",
+           "variable u1 equal f_U[1]", "variable u2 equal f_U[2]", "variable u3 equal f_U[3]",
+           "thermo_style custom step v_u1 v_u2 v_u3", "thermo 50", "thermo_modify format float %.17g"]
     post = ["fix I all nve/bpm/sphere", "timestep 2e-3",
             f"dump A all custom {steps} {tmp}/atom.dump id x y z omegax omegay omegaz tqx tqy tqz",
             "dump_modify A sort id format float %.17g",
             f"dump L all local {steps} {tmp}/loc.dump " + " ".join(f"f_T[{i}]" for i in range(1, 17)),
-            "dump_modify L format float %.17g", f"run {steps}"]
+            "dump_modify L format float %.17g",
+            f"dump P all local {steps} {tmp}/spr.dump " + " ".join(f"f_S[{i}]" for i in range(1, 8)),
+            "dump_modify P format float %.17g", f"run {steps}"]
     if restart_at:
         post.append(f"write_restart {restart_at}")
     head = ["units si", "atom_modify map array", "comm_modify vel yes cutoff 2.5"]
@@ -385,7 +400,8 @@ def grid_deck(tmp, steps, nx=25, ny=20, restart_at=None, read=None, first=None):
                    "atom_modify sort 0 0",
                    "variable wx atom 2*sin(id*0.37)", "variable wy atom 2*cos(id*0.53)",
                    "variable wz atom sin(id*1.7)",
-                   "set group all omega v_wx v_wy v_wz", "velocity all set 4 0.5 0 units box",
+                   "set group all omega v_wx v_wy v_wz", "variable vz atom 0.3*sin(id*0.37)",
+                   "velocity all set 4 0.5 v_vz units box",
                    "neighbor 0.3 bin"] + fix + post
 
 
@@ -406,25 +422,49 @@ def last(dump):
     return d[max(d)]
 
 
+def thermo_rows(log):
+    """Rows of 'step v_u1 v_u2 v_u3' (UNSPRING counter, last value, trigger step) from a log."""
+    out, on = [], False
+    for line in log.read_text().splitlines():
+        if line.split()[:2] == ["Step", "v_u1"]:
+            on = True
+            continue
+        if on:
+            try:
+                out.append([float(v) for v in line.split()])
+            except ValueError:
+                on = False
+    return out
+
+
 def by_id(rows):
     return {int(r[0]): r[1:] for r in rows}
 
 
-def test_grid_500_bodies_1_2_4_ranks_and_restart(tmp_path):
+def test_grid_500_bodies_unspring_1_2_4_ranks_and_restart(tmp_path):
     steps = 600
     res = {}
     for np_ in (1, 2, 4):
         d = tmp_path / f"np{np_}"
         d.mkdir()
         run_lmp(d, grid_deck(d, steps), np_)
-        res[np_] = (last(d / "atom.dump"), by_id(last(d / "loc.dump")), (d / "hist.csv").read_text())
-    atoms1, loc1, hist1 = res[1]
+        res[np_] = (last(d / "atom.dump"), by_id(last(d / "loc.dump")), (d / "hist.csv").read_text(),
+                    by_id(last(d / "spr.dump")), thermo_rows(d / "in.deck.log"))
+    atoms1, loc1, hist1, spr1, th1 = res[1]
+    # the UNSPRING rule fired (after the restart point 300: its count spans the restart), the msprings
+    # were unloaded (-1 or unloading code 7), the activated spring 25 is regular
+    fired = [r for r in th1 if r[1] == 0.0]
+    assert fired and 300 < fired[0][3] + 1 < steps, th1
+    assert spr1[25][5] == -3 and all(spr1[k][5] in (-1.0, 7.0) for k in (5, 6, 7, 8))
+    assert all(spr1[k][5] == -3 for k in (1, 2, 3, 4, 9))
+    print(f"[agreement] grid UNSPRING (SUM |SF| of springs 1-4 > {UNSPRING_MAX}, nfreq {UNSPRING_NFREQ}) fired at "
+          f"step {int(fired[0][3])}; msprings SS {[spr1[k][5] for k in (5, 6, 7, 8)]}, spring 25 SS {spr1[25][5]}")
     assert len(atoms1) == 500 and len(loc1) == 25 + 24 * 20 + 25 * 19
     assert max(abs(v) for r in loc1.values() for v in r[0:3]) > 0.05  # springs twisted
     assert min(r[1] for r in atoms1) > 4.0  # every body drifted by 4.8 (atoms changed rank)
     for np_ in (2, 4):
-        atoms, loc, hist = res[np_]
-        same = atoms == atoms1 and loc == loc1 and hist == hist1
+        atoms, loc, hist, spr, th = res[np_]
+        same = atoms == atoms1 and loc == loc1 and hist == hist1 and spr == spr1 and th == th1
         scale = max(abs(v) for r in atoms1 for v in r[4:10]) or 1.0
         dw = max(abs(a - b) for r1, r2 in zip(atoms1, atoms) for a, b in zip(r1[4:10], r2[4:10])) / scale
         lscale = max(abs(v) for r in loc1.values() for v in r)
@@ -432,6 +472,9 @@ def test_grid_500_bodies_1_2_4_ranks_and_restart(tmp_path):
         print(f"[agreement] grid 500 bodies / {len(loc1)} torsion springs, 1 vs {np_} ranks: omega/torque "
               f"{dw:.2e}, outputs {dl:.2e} relative, bitwise {same}")
         assert dw <= 1e-12 and dl <= 1e-12
+        assert th == th1 and spr.keys() == spr1.keys()  # same UNSPRING counters, values, trigger step
+        assert max(abs(a - b) for k in spr1 for a, b in zip(spr1[k], spr[k])) <= 1e-12 * max(
+            abs(v) for r in spr1.values() for v in r)
     # restart (2 ranks): 300 + write_restart, read_restart + 300 = 600 continuous
     first, second = tmp_path / "first", tmp_path / "second"
     first.mkdir()
@@ -446,6 +489,9 @@ def test_grid_500_bodies_1_2_4_ranks_and_restart(tmp_path):
     print(f"[agreement] grid restart (2 ranks) vs continuous: atoms bitwise {a_c == a_r}, outputs bitwise {l_c == l_r}")
     assert a_c == a_r, "atoms differ after restart"
     assert l_c == l_r, "torsion outputs (angles, torques, directions) differ after restart"
+    assert by_id(last(cont / "spr.dump")) == by_id(last(second / "spr.dump")), "spring states differ after restart"
+    tc, tr = thermo_rows(cont / "in.deck.log"), thermo_rows(second / "in.deck.log")
+    assert [r for r in tc if r[0] >= steps // 2] == tr, "UNSPRING counters differ after restart"
     hc = (cont / "hist.csv").read_text().splitlines()
     hr = (first / "hist.csv").read_text().splitlines() + (second / "hist.csv").read_text().splitlines()[1:]
     assert len(hc) == len(hr) == 1 + steps // 50
@@ -563,5 +609,105 @@ def test_bad_input(name):
     msg = error_of(lines + ["fix S all parmec/torsion " + spec, "run 1"])
     assert msg is not None, f"{name}: no error"
     assert "fix S parmec/torsion" in msg, msg
+    for e in expect:
+        assert e in msg, f"{name}: '{e}' not in: {msg}"
+
+
+# ------------------------------------------------------------------------------------------------
+# (B) fix parmec/unspring: trigger step, unload path to zero, activation (prescribed stretching)
+
+
+def unspring_run(tmp, rule, steps=80):
+    """Point mass pulled along -x at 0.5 m/s (fix move) on a CONSTANT spring 1 (k = 1000) to space, and an
+    inactive spring 2 (k = 300) on the same points. Returns {step: {spring: (STROKE, SF, SS)}} and the
+    fix's vector (counter, last value, trigger step)."""
+    lmp = new_lammps()
+    try:
+        for c in ["units si", "atom_style sphere", "boundary f f f", "region box block -10 10 -10 10 -10 10",
+                  "create_box 1 box", "create_atoms 1 single 0 0 0 units box", "set atom 1 diameter 0.5 mass 1",
+                  "fix S all parmec/spring table K -1 -1000 1 1000 table K2 -1 -300 1 300 "
+                  "spring 1 1 centre -1 0 0 0 K direction 1 0 0 spring 2 1 centre -1 0 0 0 K2 direction 1 0 0 inactive",
+                  f"fix U all parmec/unspring S tseries 3 0 0 1 2000 {rule}",
+                  "fix M all move linear -0.5 0 0", "timestep 1e-3", "thermo 0",
+                  f"dump L all local 1 {tmp}/u.dump f_S[1] f_S[3] f_S[5] f_S[7]", "dump_modify L format float %.17g",
+                  f"run {steps}"]:
+            lmp.command(c)
+        vec = [lmp.extract_fix("U", 0, 1, i) for i in range(3)]
+    finally:
+        lmp.close()
+    out = {}
+    for step, rows in read_dump(tmp / "u.dump").items():
+        out[step] = {int(r[0]): tuple(r[1:]) for r in rows}
+    return out, vec
+
+
+@pytest.mark.parametrize("nfreq,nsteps", [(1, 1), (3, 1), (2, 3)])
+def test_unspring_trigger_unload_and_activate(tmp_path, nfreq, nsteps):
+    """Trigger at the nfreq-th tested step (kernel step = LAMMPS step - 1, tested when divisible by nsteps)
+    whose SF exceeds 20.2; from the next step spring 1 has SS = 3 (the TSERIES ID, Q7) and unloads along
+    the curve (F -= slope * d stroke, slope 2000) to zero, then SS = -1 with F = 0 for good; spring 2 is
+    activated (-1 -> -3) at the trigger (Q15) and carries k2 * stroke."""
+    u, vec = unspring_run(tmp_path, f"rule tsprings 1 msprings 1 limits None 20.2 entity SF nfreq {nfreq} "
+                                    f"nsteps {nsteps} unload 3 activate 2")
+    fails, trigger = 0, None
+    for m in sorted(k for k in u if k >= 1):
+        if (m - 1) % nsteps == 0 and u[m][1][1] > 20.2:
+            fails += 1
+            if fails == nfreq:
+                trigger = m
+                break
+    assert trigger is not None
+    for m in range(1, trigger + 1):
+        assert u[m][1][2] == -2 and u[m][2][2] == -1 and u[m][2][1] == 0.0, m
+    f, m, zero_at = u[trigger][1][1], trigger + 1, None
+    while u[m][1][2] == 3:
+        expect = f - 2000.0 * (u[m][1][0] - u[m - 1][1][0])
+        assert abs(u[m][1][1] - expect) <= 1e-12 * 20.0, m
+        f, m = u[m][1][1], m + 1
+    zero_at = m
+    assert zero_at > trigger + 5 and f < 2000.0 * 0.0005 + 1e-9  # unloaded gradually, last step below one decrement
+    for m in range(zero_at, max(u) + 1):
+        assert u[m][1][1] == 0.0 and u[m][1][2] == -1, m
+    for m in range(trigger + 1, max(u) + 1):
+        assert u[m][2][2] == -3 and abs(u[m][2][1] - 300.0 * u[m][2][0]) <= 1e-12, m
+    assert vec[0] == 0 and vec[2] == trigger - 1
+    print(f"[agreement] UNSPRING nfreq {nfreq} nsteps {nsteps}: fired at LAMMPS step {trigger} (kernel step "
+          f"{trigger - 1}), SS 3 for {zero_at - trigger - 1} steps along the unload curve, then -1; spring 2 active")
+
+
+UT = ("fix S all parmec/spring table K -1 -1000 1 1000 spring 1 1 centre -1 0 0 0 K direction 1 0 0 "
+      "spring 2 1 centre -1 0 0 0 K direction 1 0 0 spring 3 1 centre -1 0 0 0 K direction 1 0 0 inactive")
+BAD_UNSPRING = {
+    "limits_min_ge_max": ("rule tsprings 1 msprings 2 limits 5 5", ["UNSPRING #0", "min < max"]),
+    "mspring_twice": ("rule tsprings 1 msprings 2 2 limits None 5", ["UNSPRING #0", "msprings", "2"]),
+    "activate_active": ("rule tsprings 1 msprings 2 limits None 5 activate 1",
+                        ["UNSPRING #0", "spring 1 in activate is already active"]),
+    "unknown_spring": ("rule tsprings 1 msprings 9 limits None 5", ["UNSPRING #0", "unknown spring ID 9",
+                                                                   "msprings"]),
+    "unknown_tseries": ("rule tsprings 1 msprings 2 limits None 5 unload 4", ["UNSPRING #0",
+                                                                             "unknown unload TSERIES 4"]),
+    "constant_tseries": ("tseries 4 7 rule tsprings 1 msprings 2 limits None 5 unload 4",
+                         ["UNSPRING #0", "TSERIES 4 must have at least two points"]),
+    "decreasing_tseries": ("tseries 4 0 0 1 -5 rule tsprings 1 msprings 2 limits None 5 unload 4",
+                           ["UNSPRING #0", "TSERIES 4 must be strictly increasing"]),
+    "managed_twice": ("rule tsprings 1 msprings 2 limits None 5 rule tsprings 1 msprings 2 limits None 6",
+                      ["UNSPRING #1", "spring 2 in msprings is already managed"]),
+    "inactive_mspring": ("rule tsprings 1 msprings 3 limits None 5", ["UNSPRING #0", "spring 3 in msprings is inactive"]),
+    "unknown_entity": ("rule tsprings 1 msprings 2 limits None 5 entity XX", ["unknown entity 'XX'"]),
+    "missing_limits": ("rule tsprings 1 msprings 2", ["limits MIN MAX is required"]),
+    "no_spring_fix": ("rule tsprings 1 msprings 2 limits None 5", ["fix ID 'Q' does not exist"]),
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD_UNSPRING))
+def test_unspring_bad_input(name):
+    spec, expect = BAD_UNSPRING[name]
+    lines = ["units si", "atom_style sphere", "boundary f f f", "region box block -10 10 -10 10 -10 10",
+             "create_box 1 box", "create_atoms 1 single 0 0 0 units box", "set atom 1 diameter 0.5 mass 1", UT,
+             "fix I all nve/sphere", "timestep 1e-3",
+             f"fix U all parmec/unspring {'Q' if name == 'no_spring_fix' else 'S'} {spec}", "run 1"]
+    msg = error_of(lines)
+    assert msg is not None, f"{name}: no error"
+    assert "fix U parmec/unspring" in msg, msg
     for e in expect:
         assert e in msg, f"{name}: '{e}' not in: {msg}"

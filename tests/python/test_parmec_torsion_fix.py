@@ -711,3 +711,23 @@ def test_unspring_bad_input(name):
     assert "fix U parmec/unspring" in msg, msg
     for e in expect:
         assert e in msg, f"{name}: '{e}' not in: {msg}"
+
+
+# ------------------------------------------------------------------------------------------------
+# the examples run and do what their comments say
+
+
+@pytest.mark.parametrize("name", ["in.rocking_block", "in.failing_chain"])
+def test_examples(tmp_path, name):
+    src = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "torsion", name)
+    p = subprocess.run([lmp_executable(), "-in", src, "-var", "plugin", plugin_path(), "-log", "none",
+                        "-screen", "none", "-nocite"], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stdout + p.stderr
+    if name == "in.rocking_block":
+        rows = list(csv.DictReader(open(tmp_path / "torsion_history.csv")))
+        tilt = [math.hypot(float(r["trq1_ROLL"]), float(r["trq1_PITCH"])) for r in rows]
+        assert len(rows) == 600 and 0.1 < max(tilt) < 0.13 and min(tilt[300:]) > 0.08  # rides the cone limit
+    else:
+        rows = list(csv.DictReader(open(tmp_path / "chain_history.csv")))
+        assert float(rows[0]["spr6_SS"]) == -2 and float(rows[-1]["spr6_SS"]) == -1
+        assert float(rows[-1]["spr11_SS"]) == -3 and float(rows[-1]["spr11_SF"]) > 0

@@ -391,13 +391,13 @@ def grid_deck(tmp, steps, nx=25, ny=20, restart_at=None, read=None, first=None):
         post.append(f"write_restart {restart_at}")
     head = ["units si", "atom_modify map array", "comm_modify vel yes cutoff 2.5"]
     if read:
-        return head + [f"read_restart {read}", "atom_modify sort 0 0"] + fix + post
+        return head + [f"read_restart {read}", "atom_modify sort 50 1.0"] + fix + post
     data = [f"grid\n\n{nx * ny} atoms\n1 atom types\n-2 {nx + 12} xlo xhi\n-2 {ny + 2} ylo yhi\n-3 3 zlo zhi\n",
             "Atoms # bpm/sphere\n"]
     data += [f"{ident(i, j)} 0 1 0.8 1000 {i} {j} 0" for j in range(ny) for i in range(nx)]
     (tmp / "grid.data").write_text("\n".join(data) + "\n")
     return head + ["atom_style bpm/sphere", "boundary f f f", f"read_data {tmp}/grid.data",
-                   "atom_modify sort 0 0",
+                   "atom_modify sort 50 1.0",
                    "variable wx atom 2*sin(id*0.37)", "variable wy atom 2*cos(id*0.53)",
                    "variable wz atom sin(id*1.7)",
                    "set group all omega v_wx v_wy v_wz", "variable vz atom 0.3*sin(id*0.37)",

@@ -731,3 +731,23 @@ def test_examples(tmp_path, name):
         rows = list(csv.DictReader(open(tmp_path / "chain_history.csv")))
         assert float(rows[0]["spr6_SS"]) == -2 and float(rows[-1]["spr6_SS"]) == -1
         assert float(rows[-1]["spr11_SS"]) == -3 and float(rows[-1]["spr11_SF"]) > 0
+
+
+def test_minimize_does_not_advance_the_state(tmp_path):
+    """minimize evaluates on a copy (Trial): a run after a minimization equals the same run without it."""
+    out = []
+    for minimize in (False, True):
+        lmp = new_lammps()
+        for c in ["units si", "atom_style bpm/sphere", "boundary f f f", "region box block -5 5 -5 5 -5 5",
+                  "create_box 1 box", "create_atoms 1 single 0 0 0 units box", "set atom 1 diameter 1 mass 10",
+                  "set atom 1 omega 1 -2 3",
+                  "fix T all parmec/torsion table K -1 1e3 1 -1e3 torsion 4 1 -1 0 0 1 1 0 0 kroll K kyaw K droll 0.3",
+                  "fix I all nve/bpm/sphere", "timestep 1e-3", "thermo 0"]:
+            lmp.command(c)
+        if minimize:
+            lmp.command("minimize 0 0 5 5")
+        lmp.command("run 200")
+        from lammps import LMP_STYLE_LOCAL, LMP_TYPE_ARRAY
+        out.append(list(lmp.numpy.extract_fix("T", LMP_STYLE_LOCAL, LMP_TYPE_ARRAY)[0]))
+        lmp.close()
+    assert out[0] == out[1] and abs(out[0][1]) > 1e-3

@@ -161,6 +161,7 @@ FixParmecSpring::FixParmecSpring(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
     if (d.tag2 >= 0) has_pairs_ = true;
   }
   names_.clear();
+  for (std::size_t s = 0; s < defs_.size(); s++) id_index_[defs_[s].id] = static_cast<int>(s);
   for (auto &kv : by_part1_) max_per_atom_ = std::max<int>(max_per_atom_, kv.second.size());
   int kmax2 = 1;  // most springs with one atom as part2: only those contributions travel to owners
   {
@@ -551,6 +552,7 @@ void FixParmecSpring::reference_geometry()
 
 void FixParmecSpring::initial_states()
 {
+  where_dirty_ = true;
   for (int i = 0; i < atom->nlocal; i++) {
     slots_[i].clear();
     auto it = by_part1_.find(atom->tag[i]);
@@ -972,11 +974,13 @@ void FixParmecSpring::grow_arrays(int nmax)
 void FixParmecSpring::copy_arrays(int i, int j, int)
 {
   slots_[j] = slots_[i];
+  where_dirty_ = true;
 }
 
 void FixParmecSpring::set_arrays(int i)
 {
   slots_[i].clear();
+  where_dirty_ = true;
 }
 
 int FixParmecSpring::pack_exchange(int i, double *buf)
@@ -990,6 +994,7 @@ int FixParmecSpring::unpack_exchange(int nlocal, double *buf)
 {
   const int n = static_cast<int>(buf[0]);
   slots_[nlocal].assign(buf + 1, buf + 1 + n);
+  where_dirty_ = true;
   return 1 + n;
 }
 
@@ -1019,6 +1024,7 @@ void FixParmecSpring::unpack_restart(int nlocal, int nth)
   for (int k = 0; k < nth; k++) m += static_cast<int>(extra[nlocal][m]);
   const int n = static_cast<int>(extra[nlocal][m + 1]);
   slots_[nlocal].assign(&extra[nlocal][m + 2], &extra[nlocal][m + 2] + n);
+  where_dirty_ = true;
   for (int s = 0; s < n / kSlot; s++) {
     const int idx = static_cast<int>(slots_[nlocal][s * kSlot]);
     if (idx < 0 || idx >= static_cast<int>(defs_.size()) || defs_[idx].tag1 != atom->tag[nlocal])
@@ -1137,47 +1143,82 @@ double FixParmecSpring::spring_eqm(const SpringDef &d, int i, int k, const sp::V
 
 int FixParmecSpring::spring_index(long spring_id) const
 {
-  for (std::size_t s = 0; s < defs_.size(); s++)
-    if (defs_[s].id == spring_id) return static_cast<int>(s);
-  return -1;
+  auto it = id_index_.find(spring_id);
+  return it == id_index_.end() ? -1 : it->second;
 }
+
+// The slot of a spring whose state this rank owns, or null. The (spring -> atom, slot) index is rebuilt
+// after atoms were exchanged, sorted or restarted (O(local springs)), so lookups are O(1) otherwise.
+const double *FixParmecSpring::owned_slot(int spring) const
+{
+  if (spring < 0 || spring >= static_cast<int>(defs_.size())) return nullptr;
+  auto *self = const_cast<FixParmecSpring *>(this);
+  auto valid = [&](const std::pair<int, int> &w) {
+    return w.first >= 0 && w.first < atom->nlocal && (w.second + 1) * kSlot <= int(slots_[w.first].size()) &&
+        static_cast<int>(slots_[w.first][w.second * kSlot]) == spring;
+  };
+  if (!where_dirty_ && where_.size() == defs_.size()) {
+    const auto &w = where_[spring];
+    if (w.first < 0) return nullptr;
+    if (valid(w)) return &slots_[w.first][w.second * kSlot];
+  }
+  self->where_.assign(defs_.size(), {-1, -1});
+  for (int i = 0; i < atom->nlocal; i++) {
+    const int nsp = static_cast<int>(slots_[i].size()) / kSlot;
+    for (int s = 0; s < nsp; s++) self->where_[static_cast<int>(slots_[i][s * kSlot])] = {i, s};
+  }
+  self->where_dirty_ = false;
+  const auto &w = where_[spring];
+  return w.first >= 0 ? &slots_[w.first][w.second * kSlot] : nullptr;
+}
+
+namespace {
+double state_entity(const sp::SpringState &st, FixParmecSpring::Entity e)
+{
+  switch (e) {
+    case FixParmecSpring::Entity::Length: return st.length;
+    case FixParmecSpring::Entity::Stroke: return st.stroke;
+    case FixParmecSpring::Entity::F: return st.force_total;
+    case FixParmecSpring::Entity::SF: return st.force_elastic;
+    case FixParmecSpring::Entity::FF: return st.friction_force;
+    case FixParmecSpring::Entity::SS: return st.code;
+    default: return NAN;
+  }
+}
+}  // namespace
 
 double FixParmecSpring::entity_value(int spring, Entity e) const
 {
-  if (e == Entity::EQM) {
+  if (e == Entity::EQM) {  // from the output rows of the last evaluation
+    if (spring < 0 || spring >= static_cast<int>(defs_.size())) return NAN;
     for (int r = 0; r < size_local_rows && r < maxlocal_; r++)
       if (array_local[r][0] == static_cast<double>(defs_[spring].id)) return array_local[r][7];
     return NAN;
   }
-  for (int i = 0; i < atom->nlocal; i++) {
-    const std::size_t nsp = slots_[i].size() / kSlot;
-    for (std::size_t s = 0; s < nsp; s++) {
-      const double *slot = &slots_[i][s * kSlot];
-      if (static_cast<int>(slot[0]) != spring) continue;
-      sp::SpringState st;
-      st.unpack(slot + 1);
-      switch (e) {
-        case Entity::Length: return st.length;
-        case Entity::Stroke: return st.stroke;
-        case Entity::F: return st.force_total;
-        case Entity::SF: return st.force_elastic;
-        case Entity::FF: return st.friction_force;
-        case Entity::SS: return st.code;
-        default: return NAN;
-      }
-    }
-  }
-  return NAN;
+  const double *slot = owned_slot(spring);
+  if (!slot) return NAN;
+  sp::SpringState st;
+  st.unpack(slot + 1);
+  return state_entity(st, e);
 }
 
 void FixParmecSpring::gather_entity(Entity e, std::vector<double> &out)
 {
   std::vector<double> mine(defs_.size(), 0.0);
-  for (int i = 0; i < atom->nlocal; i++) {
-    const std::size_t nsp = slots_[i].size() / kSlot;
-    for (std::size_t s = 0; s < nsp; s++) {
-      const int idx = static_cast<int>(slots_[i][s * kSlot]);
-      mine[idx] = entity_value(idx, e);
+  if (e == Entity::EQM) {
+    for (int r = 0; r < size_local_rows && r < maxlocal_; r++) {
+      auto it = id_index_.find(std::lround(array_local[r][0]));
+      if (it != id_index_.end()) mine[it->second] = array_local[r][7];
+    }
+  } else {
+    sp::SpringState st;
+    for (int i = 0; i < atom->nlocal; i++) {
+      const std::size_t nsp = slots_[i].size() / kSlot;
+      for (std::size_t s = 0; s < nsp; s++) {
+        const double *slot = &slots_[i][s * kSlot];
+        st.unpack(slot + 1);
+        mine[static_cast<int>(slot[0])] = state_entity(st, e);
+      }
     }
   }
   out.assign(defs_.size(), 0.0);
@@ -1187,19 +1228,13 @@ void FixParmecSpring::gather_entity(Entity e, std::vector<double> &out)
 bool FixParmecSpring::set_state_code(int spring, int code)
 {
   if (code < sp::kRegular) error->one(FLERR, cmd_ + ": set_state_code: code must be >= -3");
-  for (int i = 0; i < atom->nlocal; i++) {
-    const std::size_t nsp = slots_[i].size() / kSlot;
-    for (std::size_t s = 0; s < nsp; s++) {
-      double *slot = &slots_[i][s * kSlot];
-      if (static_cast<int>(slot[0]) != spring) continue;
-      sp::SpringState st;
-      st.unpack(slot + 1);
-      st.code = code;
-      st.pack(slot + 1);
-      return true;
-    }
-  }
-  return false;
+  double *slot = const_cast<double *>(owned_slot(spring));
+  if (!slot) return false;
+  sp::SpringState st;
+  st.unpack(slot + 1);
+  st.code = code;
+  st.pack(slot + 1);
+  return true;
 }
 
 void FixParmecSpring::set_unspring_unload(int code, const sp::SpringTable *curve)

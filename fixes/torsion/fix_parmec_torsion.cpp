@@ -1,6 +1,7 @@
 // fix parmec/torsion: LAMMPS glue for the Parmec TORSION_SPRING kernels. See fix_parmec_torsion.h for the
 // design and doc/fix_parmec_torsion.md for the user syntax.
 #include "fix_parmec_torsion.h"
+#include "definition_file.h"
 
 #include "style_registry.h"
 
@@ -344,34 +345,7 @@ void FixParmecTorsion::parse_torsion(const std::vector<std::string> &tok, std::s
 
 void FixParmecTorsion::read_file(const std::string &path)
 {
-  std::string text;
-  int ok = 1;
-  if (comm->me == 0) {
-    std::ifstream in(path);
-    if (!in) {
-      ok = 0;
-    } else {
-      std::ostringstream ss;
-      std::string line;
-      while (std::getline(in, line)) {
-        const auto hash = line.find('#');
-        if (hash != std::string::npos) line.resize(hash);
-        ss << line << '\n';
-      }
-      text = ss.str();
-    }
-  }
-  MPI_Bcast(&ok, 1, MPI_INT, 0, world);
-  if (!ok) error->all(FLERR, cmd_ + ": file '" + path + "' cannot be opened");
-  long len = text.size();
-  MPI_Bcast(&len, 1, MPI_LONG, 0, world);
-  text.resize(len);
-  if (len > 0) MPI_Bcast(&text[0], static_cast<int>(len), MPI_CHAR, 0, world);
-  std::vector<std::string> tok;
-  std::istringstream is(text);
-  std::string t;
-  while (is >> t) tok.push_back(t);
-  parse(tok, "file " + path);
+  parse(read_definition_words(lmp, path, cmd_), "file " + path);
 }
 
 // ---------------------------------------------------------------------------------------------------

@@ -1,0 +1,98 @@
+// fix mesh/surface and fix mesh/surface/stress: an STL triangle mesh wall (doc/fix_mesh_surface.md,
+// doc/fix_mesh_surface_stress.md). The geometry lives in walls/mesh/ (LAMMPS-free); this is glue.
+//
+// CONTRACT for a wall fix (fix wall/gran ... mesh n_meshes N meshes ID ...):
+//  * Find the mesh:  FixMeshSurface *m = FixMeshSurface::find(lmp, id, "fix wall/gran");
+//    (errors with the caller's name if the ID is unknown or not a mesh fix).
+//  * Every rank holds the whole mesh; only local atoms interact with it (no ghosts needed).
+//  * Candidates: m->candidates(i) / m->ncandidates(i) for local atom i, triangle ids ascending.
+//    Rebuilt by this fix in (setup_)post_neighbor for all local atoms, so they are valid in
+//    post_force of every step until the next re-neighbouring. Process them in that order: it is
+//    LIGGGHTS's force order per particle (spec liggghts-walls §4.5).
+//  * Geometry: m->closest(tri, x, radius) gives dist_minus_r, delta (wall point - centre), bary,
+//    kind (spec §4.4). m->mesh().coplanar_node_neighbors(a, b) for the §4.5 de-duplication.
+//  * Wall velocity at the contact: m->wall_velocity(tri, bary, v) (zero for a static mesh).
+//  * Material type of the wall: m->wall_type().
+//  * Force on the mesh (§8): after adding a contact to f_i, call
+//      if (m->stress_on() && (mask[i] & m->groupbit)) m->add_wall_force(tri, frc, cp);
+//    with frc = -(f_i after - f_i before) and cp = x_i + delta. This fix zeroes the totals in
+//    pre_force, MPI-sums them in final_integrate (and after setup), and serves f_ID[1..9].
+//  * Shape changes: the wall fix must not keep pointers into the mesh across steps; the triangle
+//    count never changes after construction.
+#pragma once
+
+#include "fix.h"
+
+#include "mesh_neighbors.h"
+#include "triangle_contact.h"
+#include "triangle_mesh.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dembridge {
+
+class FixMoveMesh;
+
+class FixMeshSurface : public LAMMPS_NS::Fix {
+ public:
+  FixMeshSurface(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
+  ~FixMeshSurface() override;
+  int setmask() override;
+  void init() override;
+  void setup(int vflag) override;
+  void setup_pre_neighbor() override;
+  void setup_post_neighbor() override;
+  void setup_pre_force(int vflag) override;
+  void pre_neighbor() override;
+  void post_neighbor() override;
+  void pre_force(int vflag) override;
+  void final_integrate() override;
+  double compute_vector(int i) override;
+  void write_restart(FILE *fp) override;
+  void restart(char *buf) override;
+  double memory_usage() override;
+
+  // ---- API for wall fixes (see the contract above)
+  static FixMeshSurface *find(LAMMPS_NS::LAMMPS *lmp, const std::string &id, const std::string &caller);
+  const mesh::TriangleMesh &mesh() const { return *mesh_; }
+  int wall_type() const { return wall_type_; }
+  bool moving() const { return !movers_.empty(); }
+  int ncandidates(int i) const { return neighbors_.count(i); }
+  const int *candidates(int i) const { return neighbors_.begin(i); }
+  mesh::TriangleContact closest(int tri, const double *x, double radius) const
+  {
+    return mesh::resolve_contact(*mesh_, tri, {x[0], x[1], x[2]}, radius);
+  }
+  void wall_velocity(int tri, const mesh::Vec3 &bary, double *v) const;
+  bool stress_on() const { return stress_; }
+  void add_wall_force(int tri, const double *f_on_mesh, const double *contact_point);
+
+  // ---- API for fix move/mesh and the mesh dumps
+  mesh::TriangleMesh &mesh_for_motion() { return *mesh_; }
+  int register_mover(FixMoveMesh *mover);  // returns its rank among the movers (0 = first)
+  void unregister_mover(FixMoveMesh *mover);
+  // Per-triangle force on the mesh summed over ranks (collective; zeros without stress).
+  std::vector<double> triangle_forces_all() const;
+  const mesh::Vec3 &reference_point() const { return mesh_->attached_point(ref_point_); }
+
+ private:
+  std::unique_ptr<mesh::TriangleMesh> mesh_;
+  mesh::MeshNeighbors neighbors_;
+  std::vector<FixMoveMesh *> movers_;
+  int wall_type_ = 0;
+  bool stress_ = false;
+  int ref_point_ = -1;
+  double total_[6] = {0, 0, 0, 0, 0, 0};  // force, torque about the reference point (this rank)
+  double total_all_[6] = {0, 0, 0, 0, 0, 0};
+  std::vector<double> tri_force_;          // per triangle, this rank
+  std::vector<mesh::TriangleNodes> nodes_at_build_;
+  bool rebuilt_this_step_ = false;
+
+  void build_candidates();
+  void sum_totals();
+  void check_domain() const;
+};
+
+}  // namespace dembridge

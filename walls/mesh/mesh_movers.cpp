@@ -10,6 +10,7 @@ constexpr double kTwoPi = 2. * 3.14159265358979323846;
 
 void add_translation_velocity(TriangleMesh &m, const Vec3 &v)
 {
+  if (!m.has_velocity()) m.zero_velocity();
   for (int t = 0; t < m.size(); ++t)
     for (int k = 0; k < 3; ++k) m.add_node_velocity(t, k, v);
 }
@@ -17,6 +18,7 @@ void add_translation_velocity(TriangleMesh &m, const Vec3 &v)
 // node velocity += (axis * rate) x (node - origin), from the already rotated nodes
 void add_rotation_velocity(TriangleMesh &m, const Vec3 &axis, double rate, const Vec3 &origin)
 {
+  if (!m.has_velocity()) m.zero_velocity();
   const Vec3 w = scale(axis, rate);
   for (int t = 0; t < m.size(); ++t)
     for (int k = 0; k < 3; ++k) m.add_node_velocity(t, k, cross(w, sub(m.node(t, k), origin)));

@@ -7,6 +7,12 @@ namespace dembridge::mesh {
 
 bool MeshNeighbors::in_reach(const TriangleMesh &m, int t, const Vec3 &p, double reach)
 {
+  // the triangle's bounding box grown by the reach (the LIGGGHTS edge-plane test alone admits
+  // far points in the wedge beyond an acute corner; every real contact is inside the box)
+  for (int d = 0; d < 3; ++d) {
+    const double a = m.node(t, 0)[d], b = m.node(t, 1)[d], c = m.node(t, 2)[d];
+    if (p[d] < std::min(a, std::min(b, c)) - reach || p[d] > std::max(a, std::max(b, c)) + reach) return false;
+  }
   const Vec3 &n0 = m.node(t, 0);
   const double dplane = dot(sub(p, n0), m.normal(t));
   if (std::fabs(dplane) > reach) return false;
@@ -93,6 +99,7 @@ void MeshNeighbors::build(const TriangleMesh &m, int n, const double *const *x, 
   build_bins(m, rmax + s);
   first_.assign(n + 1, 0);
   tri_.clear();
+  tests_ = 0;
   for (int i = 0; i < n; ++i) {
     first_[i] = static_cast<int>(tri_.size());
     if (skip && skip[i]) continue;
@@ -100,6 +107,7 @@ void MeshNeighbors::build(const TriangleMesh &m, int n, const double *const *x, 
     const long b = bin_of(p);
     if (b < 0) continue;
     const double reach = radius[i] + s;
+    tests_ += std::size_t(bin_first_[b + 1] - bin_first_[b]);
     for (int q = bin_first_[b]; q < bin_first_[b + 1]; ++q)
       if (in_reach(m, bin_tri_[q], p, reach)) tri_.push_back(bin_tri_[q]);
   }

@@ -22,14 +22,17 @@ class MeshNeighbors {
   const int *begin(int i) const { return tri_.data() + first_[i]; }
   int nparticles() const { return static_cast<int>(first_.size()) - 1; }
   std::size_t total() const { return tri_.size(); }
+  std::size_t tests_performed() const { return tests_; }  // criterion evaluations of the last build
   double memory_bytes() const;
 
-  // The §6 criterion for one particle and triangle.
+  // The §6 criterion for one particle and triangle, and inside the triangle's bounding box grown
+  // by the reach. A superset of every contact within the reach.
   static bool in_reach(const TriangleMesh &mesh, int t, const Vec3 &p, double reach);
 
  private:
   std::vector<int> first_{0};
   std::vector<int> tri_;
+  std::size_t tests_ = 0;
   // bins
   Vec3 lo_{};
   double h_ = 1.0;

@@ -19,6 +19,9 @@ struct CellHash {
   }
 };
 
+// LIGGGHTS's per-component node comparison: equal, or absolutely closer than the precision.
+bool same_coordinate(double a, double b, double precision) { return a == b || std::fabs(a - b) < precision; }
+
 }  // namespace
 
 std::vector<std::array<int, 3>> index_nodes(const std::vector<TriangleNodes> &tris, double precision)
@@ -40,8 +43,8 @@ std::vector<std::array<int, 3>> index_nodes(const std::vector<TriangleNodes> &tr
             if (it == grid.end()) continue;
             for (int id : it->second) {
               const Vec3 &q = unique[id];
-              if (std::fabs(p[0] - q[0]) <= precision && std::fabs(p[1] - q[1]) <= precision &&
-                  std::fabs(p[2] - q[2]) <= precision) {
+              if (same_coordinate(p[0], q[0], precision) && same_coordinate(p[1], q[1], precision) &&
+                  same_coordinate(p[2], q[2], precision)) {
                 found = id;
                 break;
               }

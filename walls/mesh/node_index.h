@@ -1,5 +1,5 @@
-// Node identity for the mesh topology: nodes closer than the mesh precision (per component) are
-// the same node. Hash grid with cells of twice the precision, so a lookup visits 27 cells.
+// Node identity for the mesh topology: nodes whose coordinates all differ by less than the mesh
+// precision are the same node (LIGGGHTS nodesAreEqual, spec §4.1). Hash grid with cells of twice the precision, so a lookup visits 27 cells.
 #pragma once
 
 #include "triangle_mesh.h"

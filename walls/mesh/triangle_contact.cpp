@@ -14,9 +14,9 @@ Vec3 unit(int i)
   return b;
 }
 
-TriangleContact none(double r)
+TriangleContact none(double r, int sign)
 {
-  return {kNoContactDistance - r, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, 0, ContactKind::None};
+  return {kNoContactDistance - r, {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, sign, ContactKind::None};
 }
 
 TriangleContact at_point(const Vec3 &p, const Vec3 &cp, double r, const Vec3 &bary, int sign, ContactKind kind)
@@ -48,14 +48,14 @@ TriangleContact edge_contact(const TriangleMesh &m, int t, int ie, const Vec3 &p
   const Vec3 &n = m.node(t, ie);
   const double dfn = dot(sub(p, n), m.edge_vec(t, ie));
   if (dfn < -kSmallTriMesh) {
-    if (!m.corner_active(t, ie)) return none(r);
+    if (!m.corner_active(t, ie)) return none(r, sign);
     return at_point(p, n, r, unit(ie), sign, ContactKind::Corner);
   }
   if (dfn > m.edge_len(t, ie) + kSmallTriMesh) {
-    if (!m.corner_active(t, ip)) return none(r);
+    if (!m.corner_active(t, ip)) return none(r, sign);
     return at_point(p, m.node(t, ip), r, unit(ip), sign, ContactKind::Corner);
   }
-  if (!m.edge_active(t, ie)) return none(r);
+  if (!m.edge_active(t, ie)) return none(r, sign);
   return at_point(p, along(n, dfn, m.edge_vec(t, ie)), r, bary_edge(m, t, ie, dfn), sign, ContactKind::Edge);
 }
 
@@ -69,26 +69,26 @@ TriangleContact corner_contact(const TriangleMesh &m, int t, int in, const Vec3 
     double dfn = dot(to_p, m.edge_vec(t, ipp));
     if (dfn < kSmallTriMesh) {
       if (dfn > -m.edge_len(t, ipp)) {
-        if (!m.edge_active(t, ipp)) return none(r);
+        if (!m.edge_active(t, ipp)) return none(r, sign);
         Vec3 b{0.0, 0.0, 0.0};
         b[in] = 1.0 + dfn / m.edge_len(t, ipp);
         b[ipp] = 1.0 - b[in];
         return at_point(p, along(n, dfn, m.edge_vec(t, ipp)), r, b, sign, ContactKind::Edge);
       }
-      if (!m.corner_active(t, ipp)) return none(r);
+      if (!m.corner_active(t, ipp)) return none(r, sign);
       return at_point(p, m.node(t, ipp), r, unit(ipp), sign, ContactKind::Corner);
     }
     dfn = dot(to_p, m.edge_vec(t, in));
     if (dfn > -kSmallTriMesh) {
       if (dfn < m.edge_len(t, in)) {
-        if (!m.edge_active(t, in)) return none(r);
+        if (!m.edge_active(t, in)) return none(r, sign);
         return at_point(p, along(n, dfn, m.edge_vec(t, in)), r, bary_edge(m, t, in, dfn), sign, ContactKind::Edge);
       }
-      if (!m.corner_active(t, ip)) return none(r);
+      if (!m.corner_active(t, ip)) return none(r, sign);
       return at_point(p, m.node(t, ip), r, unit(ip), sign, ContactKind::Corner);
     }
   }
-  if (!m.corner_active(t, in)) return none(r);
+  if (!m.corner_active(t, in)) return none(r, sign);
   return at_point(p, n, r, unit(in), sign, ContactKind::Corner);
 }
 
@@ -121,7 +121,7 @@ TriangleContact resolve_contact(const TriangleMesh &m, int t, const Vec3 &p, dou
     case 3: return edge_contact(m, t, 0, p, r, sign);
     case 6: return edge_contact(m, t, 1, p, r, sign);
     case 5: return edge_contact(m, t, 2, p, r, sign);
-    default: return none(r);  // sign 0: cannot happen for a valid triangle
+    default: return none(r, sign);  // sign 0: cannot happen for a valid triangle
   }
 }
 

@@ -1,0 +1,37 @@
+// Parmec's rigid-body update (spec parmec-springs §1.1-§1.2), LAMMPS-free: the rotation-vector exponential
+// and one body-frame rotational step with a full (anisotropic) referential inertia tensor.
+// Quirk Q3 (Parmec's expmap uses Ω2·Ω3 where Ω1·Ω3 belongs) can be switched on to reproduce upstream runs.
+#pragma once
+
+#include <Eigen/Dense>
+
+namespace dembridge::rigid {
+
+using Mat3 = Eigen::Matrix3d;
+using Vec3 = Eigen::Vector3d;
+
+// exp([θ]×) = I + (sin|θ|/|θ|)[θ]× + ((1 − cos|θ|)/|θ|²)[θ]×², with Parmec's Taylor series for |θ|² < 0.0305.
+Mat3 expmap(const Vec3 &theta, bool q3_typo);
+
+// Symmetric inertia tensor from Parmec's list [Ixx, Iyy, Izz, Ixy, Ixz, Iyz].
+Mat3 inertia_from_list(const double *six);
+
+struct RotationStep {
+  Mat3 L;   // rotation Λ_{n+3/2}
+  Vec3 W;   // body angular velocity Ω_{n+1}
+  Vec3 w;   // spatial angular velocity ω_{n+1} = Λ_{n+3/2} Ω_{n+1}
+};
+
+// One step of Parmec's dynamics() for the rotation: body torque T = Λᵀ t,
+// Ω½ = J⁻¹[exp(−h/2 Ω) J Ω + h/2 T], Ω' = Ω + h J⁻¹(T − Ω½ × J Ω½), Λ' = Λ exp(h Ω'), ω' = Λ' Ω'.
+RotationStep rotation_step(const Mat3 &J, const Mat3 &Jinv, const Mat3 &L, const Vec3 &W, const Vec3 &torque,
+                           double h, bool q3_typo);
+
+// Orthonormal basis (Gram-Schmidt, in order, dropping dependent vectors) of up to 3 directions;
+// returns the number kept (RESTRAIN, spec §10).
+int orthonormalise(const double *dirs, int ndirs, Vec3 out[3]);
+
+// v minus its components along the first n basis vectors.
+Vec3 remove_components(const Vec3 &v, const Vec3 basis[3], int n);
+
+}  // namespace dembridge::rigid

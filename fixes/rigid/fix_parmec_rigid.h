@@ -1,0 +1,80 @@
+// fix parmec/rigid: Parmec's time integrator for rigid bodies (spec parmec-springs §1, §10; user page
+// doc/fix_parmec_rigid.md) with RESTRAIN, PRESCRIBE, DAMPING and time-dependent GRAVITY.
+//
+// Design: each atom is one Parmec particle (mass rmass, referential inertia tensor from a per-atom
+// property or the sphere's 0.4 m r²). The rotation Λ (9 values, so Parmec's slightly non-orthogonal Q3
+// matrices can be reproduced) and the body angular velocity Ω live in a fix property/atom created by
+// this fix, which carries them through exchange, sorting and restart. Forces of the other fixes are
+// evaluated at (x_{n+1/2}, Λ_{n+1/2}, v_n, ω_n); final_integrate applies gravity, restraints,
+// prescriptions and damping and then kicks and drifts (v_{n+1}, x_{n+3/2}), so the state after LAMMPS
+// step m is Parmec's HISTORY row of step m-1. Restraints and prescriptions are few and replicated
+// (atom tag -> definition).
+#pragma once
+
+#include "fix.h"
+
+#include "BodyRotation.h"
+#include "TimeSeries.h"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace dembridge {
+
+class FixParmecRigid : public LAMMPS_NS::Fix {
+ public:
+  FixParmecRigid(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
+  ~FixParmecRigid() override;
+  int setmask() override;
+  void post_constructor() override;
+  void init() override;
+  void setup_pre_exchange() override;
+  void pre_exchange() override {}
+  void final_integrate() override;
+  void write_restart(FILE *fp) override;
+  void restart(char *buf) override;
+
+ private:
+  // A time-dependent scalar: constant, TSERIES (clamped, Parmec's TMS_Value) or equal-style variable.
+  struct Series {
+    int kind = 0;  // 0 constant, 1 tseries, 2 variable
+    double value = 0.0;
+    std::string name;
+    const springs::TimeSeries *ts = nullptr;
+    int ivar = -1;
+  };
+  struct Restraint {
+    rigid::Vec3 lin[3], ang[3];
+    int nlin = 0, nang = 0;
+  };
+  struct Prescription {
+    bool lin = false, ang = false;
+    bool lin_acc = false, ang_acc = false;  // 'a' kinds
+    Series l[3], a[3];
+  };
+
+  void parse(const std::vector<std::string> &tok, const std::string &where);
+  Series parse_series(const std::string &word, const std::string &what, const std::string &where);
+  void resolve(Series &s, const std::string &what);
+  double eval(const Series &s, double t);
+  void restrain_velocities();
+  void half_drift();
+  void refresh_state();
+  double step_time() const;  // t_n of the step being integrated
+
+  std::string cmd_;
+  std::map<std::string, springs::TimeSeries> tseries_;
+  bool has_gravity_ = false, has_damping_ = false;
+  Series gravity_[3], damp_lin_[3], damp_ang_[3];
+  std::map<LAMMPS_NS::tagint, Restraint> restraints_;
+  std::map<LAMMPS_NS::tagint, Prescription> prescriptions_;
+  std::string inertia_name_;  // d2_ property with 6 columns; empty: sphere inertia
+  bool q1_ = false, q2_ = false, q3_ = false, q20_ = false, qj_ = false;
+  bool half_drift_ = true;
+  int started_ = 0;  // initial half drift done (restart keeps it)
+  std::string id_state_;
+  double **L_ = nullptr, **W_ = nullptr, **J_ = nullptr;
+};
+
+}  // namespace dembridge

@@ -1,0 +1,30 @@
+"""python -m dembridge.parmec [--parmec-quirks] [--workdir DIR] model.py [script arguments]"""
+import sys
+
+from . import ParmecError, run_script
+
+
+def main(argv):
+    quirks, workdir = False, None
+    while argv and argv[0].startswith("--"):
+        opt = argv.pop(0)
+        if opt == "--parmec-quirks":
+            quirks = True
+        elif opt == "--workdir" and argv:
+            workdir = argv.pop(0)
+        else:
+            print(f"dembridge.parmec: unknown option {opt!r} (expected --parmec-quirks, --workdir DIR)", file=sys.stderr)
+            return 2
+    if not argv:
+        print("usage: python -m dembridge.parmec [--parmec-quirks] [--workdir DIR] model.py [args]", file=sys.stderr)
+        return 2
+    try:
+        run_script(argv[0], argv[1:], quirks=quirks, workdir=workdir)
+    except ParmecError as e:
+        print(f"Parmec input error: {e}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,576 @@
+"""The Parmec input language (seed 000_06fddb409cce0c78, spec parmec-springs): every command checks its
+arguments as Parmec does and records them in a Model; DEM hands the model to the LAMMPS runner.
+Numbers returned to the script (particle, spring, TSERIES ... numbers) start at 0 as in Parmec."""
+import math
+import numbers
+import os
+import sys
+
+from .errors import ParmecError, fail
+from . import geometry as geo
+
+REAL_MAX = sys.float_info.max
+
+
+def _is_real(x):
+    return isinstance(x, numbers.Real) and not isinstance(x, bool)
+
+
+def _vec(cmd, name, v, n=3):
+    if not isinstance(v, (tuple, list)) or len(v) != n or not all(_is_real(c) for c in v):
+        fail(cmd, f"argument '{name}' must be a tuple of {n} numbers, got {v!r}")
+    return [float(c) for c in v]
+
+
+def _table(cmd, name, t):
+    """Parmec lookup table [x1, y1, x2, y2, ...]: even length >= 4, x strictly increasing."""
+    if not isinstance(t, (list, tuple)) or not all(_is_real(c) for c in t):
+        fail(cmd, f"argument '{name}' must be a list [x1, y1, x2, y2, ...] of numbers, got {t!r}")
+    if len(t) < 4 or len(t) % 2:
+        fail(cmd, f"argument '{name}' must have an even number (>= 4) of entries, got {len(t)}")
+    xs = t[0::2]
+    if any(b <= a for a, b in zip(xs, xs[1:])):
+        fail(cmd, f"argument '{name}': x values must increase strictly, got {list(xs)}")
+    return [float(c) for c in t]
+
+
+def _check_kwargs(cmd, kwargs, allowed):
+    for k in kwargs:
+        if k not in allowed:
+            fail(cmd, f"unknown argument '{k}' (expected one of {', '.join(allowed)})")
+
+
+class Particle:
+    def __init__(self, kind, mass, centre, inertia, radius, material, color, rotation=None):
+        self.kind = kind            # 'SPHERE', 'MESH', 'ANALYTICAL'
+        self.mass = mass
+        self.centre = centre        # reference mass centre X
+        self.inertia = inertia      # referential 3x3 inertia about the centre
+        self.radius = radius        # contact radius (SPHERE) or the isotropic-equivalent radius
+        self.material = material
+        self.color = color
+        self.rotation = rotation or [[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0]]
+        self.v = [0.0, 0.0, 0.0]
+        self.w = [0.0, 0.0, 0.0]    # spatial angular velocity
+
+
+class Model:
+    """State of one Parmec session (RESET() empties it)."""
+
+    def __init__(self, argv=None, script=None, quirks=False, workdir=None, comm=None):
+        self.argv = list(argv or [])
+        self.script = script
+        self.quirks = quirks
+        self.workdir = workdir
+        self.comm = comm
+        self.runner = None
+        self.reset_state()
+
+    # --------------------------------------------------------------------------------------------
+    def reset_state(self):
+        if getattr(self, "runner", None) is not None:
+            self.runner.close()
+        self.runner = None
+        self.tseries = []           # [('const', v) | ('table', [t0, v0, ...])]
+        self.materials = []         # (density, young, poisson)
+        self.particles = []
+        self.springs = []           # dicts
+        self.torsions = []
+        self.unsprings = []
+        self.restraints = {}        # particle -> (linear list, angular list)
+        self.prescriptions = {}     # particle -> dict
+        self.gravity = None         # 3 sources
+        self.damping = None         # (3 linear, 3 angular sources)
+        self.histories = []         # dicts with 'list'
+        self.outputs = []
+        self.granular = []
+        self.curtime = 0.0
+        self.step_count = 0         # steps done over all DEM calls
+        self.hist_time = 0.0        # Parmec's curtime_history
+        self.frozen = False         # LAMMPS deck built: model fixed
+
+    def namespace(self):
+        names = ["ARGV", "RESET", "TSERIES", "MATERIAL", "SPHERE", "MESH", "ANALYTICAL", "OBSTACLE", "SPRING",
+                 "TORSION_SPRING", "UNSPRING", "BALL_JOINT", "EQM", "GRANULAR", "RESTRAIN", "PRESCRIBE", "VELOCITY",
+                 "GRAVITY", "DAMPING", "CRITICAL", "HISTORY", "OUTPUT", "DEM"]
+        ns = {n: getattr(self, n) for n in names}
+        ns["__name__"] = "__main__"
+        ns["__file__"] = self.script or "<parmec>"
+        return ns
+
+    def _modifiable(self, cmd):
+        if self.frozen:
+            fail(cmd, "changing the model after the first DEM() call is not supported (the LAMMPS model is built "
+                      "at the first DEM; use RESET() to start a new model)")
+
+    def _particle(self, cmd, name, i, allow_anchor=False):
+        if allow_anchor and isinstance(i, int) and not isinstance(i, bool) and i == -1:
+            return -1
+        if not isinstance(i, int) or isinstance(i, bool) or not 0 <= i < len(self.particles):
+            fail(cmd, f"argument '{name}' = {i!r} is not a particle number (0 ... {len(self.particles) - 1}"
+                      f"{' or -1' if allow_anchor else ''})")
+        return i
+
+    def _tseries_ref(self, cmd, name, i):
+        if not isinstance(i, int) or isinstance(i, bool) or not 0 <= i < len(self.tseries):
+            fail(cmd, f"argument '{name}' = {i!r} is not a TSERIES number (0 ... {len(self.tseries) - 1})")
+        return i
+
+    def _source(self, cmd, name, g):
+        """GRAVITY/DAMPING/PRESCRIBE component: float constant, int TSERIES number or callback."""
+        if callable(g):
+            return ("call", g)
+        if isinstance(g, float):
+            return ("const", g)
+        if isinstance(g, int) and not isinstance(g, bool):
+            return ("tseries", self._tseries_ref(cmd, name, g))
+        fail(cmd, f"argument '{name}' must be a float, a TSERIES number or a callable, got {g!r}")
+
+    # ------------------------------------------------------------------------------------- commands
+    def ARGV(self, nonparmec=True):
+        if nonparmec:
+            return list(self.argv)
+        return [self.script or ""] + list(self.argv)
+
+    def RESET(self):
+        self.reset_state()
+
+    def TSERIES(self, points):
+        cmd = "TSERIES"
+        if _is_real(points):
+            self.tseries.append(("const", float(points)))
+            return len(self.tseries) - 1
+        if isinstance(points, str):
+            if not os.path.exists(points):
+                fail(cmd, f"argument 'points': file '{points}' does not exist")
+            vals = []
+            for line in open(points):
+                line = line.split("#")[0].split()
+                vals += [float(x) for x in line]
+            points = vals
+        if isinstance(points, (list, tuple)) and points and isinstance(points[0], (list, tuple)):
+            flat = []
+            for p in points:
+                if not isinstance(p, (list, tuple)) or len(p) != 2:
+                    fail(cmd, f"argument 'points': expected pairs [t, v], got {p!r}")
+                flat += list(p)
+            points = flat
+        t = _table(cmd, "points", points)
+        self.tseries.append(("table", t))
+        return len(self.tseries) - 1
+
+    def MATERIAL(self, density, young, poisson):
+        cmd = "MATERIAL"
+        for n, v in (("density", density), ("young", young), ("poisson", poisson)):
+            if not _is_real(v):
+                fail(cmd, f"argument '{n}' must be a number, got {v!r}")
+        if density <= 0:
+            fail(cmd, f"argument 'density' must be > 0, got {density}")
+        if young <= 0 or not 0 <= poisson < 0.5:
+            fail(cmd, f"young must be > 0 and 0 <= poisson < 0.5, got {young}, {poisson}")
+        self.materials.append((float(density), float(young), float(poisson)))
+        return len(self.materials) - 1
+
+    def _material(self, cmd, m):
+        if not isinstance(m, int) or isinstance(m, bool) or not 0 <= m < len(self.materials):
+            fail(cmd, f"argument 'material' = {m!r} is not a material number (0 ... {len(self.materials) - 1})")
+        return m
+
+    def SPHERE(self, center, radius, material, color):
+        cmd = "SPHERE"
+        self._modifiable(cmd)
+        c = _vec(cmd, "center", center)
+        if not _is_real(radius) or radius <= 0:
+            fail(cmd, f"argument 'radius' must be a number > 0, got {radius!r}")
+        m = self._material(cmd, material)
+        if not isinstance(color, int) or color <= 0:
+            fail(cmd, f"argument 'color' must be a positive integer, got {color!r}")
+        mass = self.materials[m][0] * 4.0 / 3.0 * math.pi * radius ** 3
+        j = 0.4 * mass * radius * radius
+        self.particles.append(Particle("SPHERE", mass, c, [[j, 0, 0], [0, j, 0], [0, 0, j]], float(radius), m, color))
+        return len(self.particles) - 1
+
+    def MESH(self, nodes, elements, material, colors):
+        cmd = "MESH"
+        self._modifiable(cmd)
+        if not isinstance(nodes, (list, tuple)) or len(nodes) < 12 or len(nodes) % 3 or not all(_is_real(x) for x in nodes):
+            fail(cmd, "argument 'nodes' must be a flat list [x0, y0, z0, x1, ...] of at least 4 nodes")
+        m = self._material(cmd, material)
+        nn = len(nodes) // 3
+        k = 0
+        if not isinstance(elements, (list, tuple)) or not elements:
+            fail(cmd, "argument 'elements' must be a non-empty list [n, i1, ..., in, material, ...]")
+        while k < len(elements):
+            n = elements[k]
+            if n not in (4, 5, 6, 8):
+                fail(cmd, f"argument 'elements': element node count must be 4, 5, 6 or 8, got {n!r} at entry {k}")
+            if k + n + 2 > len(elements):
+                fail(cmd, f"argument 'elements': element at entry {k} is truncated")
+            for i in elements[k + 1:k + 1 + n]:
+                if not isinstance(i, int) or not 0 <= i < nn:
+                    fail(cmd, f"argument 'elements': node number {i!r} out of range 0 ... {nn - 1}")
+            self._material(cmd, elements[k + 1 + n])
+            k += n + 2
+        if isinstance(colors, int):
+            colors = [colors]
+        if not isinstance(colors, (list, tuple)) or not colors or not isinstance(colors[0], int) or colors[0] <= 0:
+            fail(cmd, f"argument 'colors' must be a positive integer or a list [gcolor, ...], got {colors!r}")
+        dens = {i: mat[0] for i, mat in enumerate(self.materials)}
+        mass, centre, J, vol = geo.mesh_mass_properties(nodes, elements, dens)
+        r = math.sqrt((J[0][0] + J[1][1] + J[2][2]) / 3.0 / (0.4 * mass))
+        p = Particle("MESH", mass, centre, J, r, m, colors[0])
+        p.nodes = [float(x) for x in nodes]
+        self.particles.append(p)
+        return len(self.particles) - 1
+
+    def ANALYTICAL(self, inertia=None, mass=None, rotation=None, position=None, material=None, particle=None):
+        cmd = "ANALYTICAL"
+        self._modifiable(cmd)
+        if particle is not None:
+            fail(cmd, "argument 'particle' (converting an existing particle) is not supported")
+        inertia = [1.0, 1.0, 1.0, 0.0, 0.0, 0.0] if inertia is None else inertia
+        if not isinstance(inertia, (list, tuple)) or len(inertia) != 6 or not all(_is_real(x) for x in inertia):
+            fail(cmd, f"argument 'inertia' must be a list [Ixx, Iyy, Izz, Ixy, Ixz, Iyz], got {inertia!r}")
+        mass = 1.0 if mass is None else mass
+        if not _is_real(mass) or mass <= 0:
+            fail(cmd, f"argument 'mass' must be a number > 0, got {mass!r}")
+        J = [[inertia[0], inertia[3], inertia[4]], [inertia[3], inertia[1], inertia[5]],
+             [inertia[4], inertia[5], inertia[2]]]
+        try:
+            geo.inv3(J)
+        except ZeroDivisionError:
+            fail(cmd, f"argument 'inertia' is singular: {inertia!r}")
+        if min(inertia[:3]) <= 0:
+            fail(cmd, f"argument 'inertia': diagonal entries must be > 0, got {inertia!r}")
+        rot = [[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0]]
+        if rotation is not None:
+            r = _vec(cmd, "rotation", rotation, 9)
+            rot = [[r[0], r[3], r[6]], [r[1], r[4], r[7]], [r[2], r[5], r[8]]]  # columns e1, e2, e3
+            for i in range(3):
+                for j in range(3):
+                    d = sum(rot[k][i] * rot[k][j] for k in range(3))
+                    if abs(d - (1.0 if i == j else 0.0)) > 1e-10:
+                        fail(cmd, "argument 'rotation': vectors e1, e2, e3 must be orthonormal")
+        pos = [0.0, 0.0, 0.0] if position is None else _vec(cmd, "position", position)
+        mat = 0 if material is None else material
+        if self.materials or material is not None:
+            self._material(cmd, mat)
+        r = math.sqrt((J[0][0] + J[1][1] + J[2][2]) / 3.0 / (0.4 * mass))
+        self.particles.append(Particle("ANALYTICAL", float(mass), pos, J, r, mat, 0, rot))
+        return len(self.particles) - 1
+
+    def OBSTACLE(self, *args, **kwargs):
+        fail("OBSTACLE", "not supported yet by the dembridge front end (moving triangle obstacles need the wall/mesh "
+                         "machinery; see doc/parmec_front_end.md)")
+
+    def BALL_JOINT(self, *args, **kwargs):
+        fail("BALL_JOINT", "not supported yet by the dembridge front end (see doc/parmec_front_end.md)")
+
+    def GRANULAR(self, color1, color2, spring, damper=1.0, friction=0.0, rolling=0.0, drilling=0.0, kskn=0.5):
+        cmd = "GRANULAR"
+        for n, v in (("color1", color1), ("color2", color2)):
+            if not isinstance(v, int) or v < 0:
+                fail(cmd, f"argument '{n}' must be an integer >= 0, got {v!r}")
+        if not _is_real(spring) or spring < 0:
+            fail(cmd, f"argument 'spring' must be a number >= 0, got {spring!r}")
+        if spring > 0:
+            if any(p.kind == "MESH" for p in self.particles):
+                fail(cmd, "contact involving MESH particles is not supported (MESH-MESH contact is not implemented "
+                          "in Parmec either); use SPHERE particles for contact")
+            fail(cmd, "granular contact (spring > 0) is not supported yet by the dembridge front end")
+        self.granular.append((color1, color2, spring, damper, friction, rolling, drilling, kskn))
+
+    def VELOCITY(self, parnum, linear=None, angular=None):
+        cmd = "VELOCITY"
+        self._modifiable(cmd)
+        i = self._particle(cmd, "parnum", parnum)
+        if linear is not None:
+            self.particles[i].v = _vec(cmd, "linear", linear)
+        if angular is not None:
+            self.particles[i].w = _vec(cmd, "angular", angular)
+
+    def GRAVITY(self, gx, gy, gz):
+        cmd = "GRAVITY"
+        self._modifiable(cmd)
+        self.gravity = [self._source(cmd, n, g) for n, g in (("gx", gx), ("gy", gy), ("gz", gz))]
+
+    def _triple(self, cmd, name, v):
+        if callable(v):
+            return ("call3", v)
+        if isinstance(v, (tuple, list)) and len(v) == 3:
+            return ("tseries3", [self._tseries_ref(cmd, name, t) for t in v])
+        fail(cmd, f"argument '{name}' must be a callable returning (x, y, z) or a tuple of 3 TSERIES numbers, got {v!r}")
+
+    def DAMPING(self, linear, angular):
+        cmd = "DAMPING"
+        self._modifiable(cmd)
+        self.damping = (self._triple(cmd, "linear", linear), self._triple(cmd, "angular", angular))
+
+    def RESTRAIN(self, parnum, linear=None, angular=None):
+        cmd = "RESTRAIN"
+        self._modifiable(cmd)
+        i = self._particle(cmd, "parnum", parnum)
+        out = []
+        for name, d in (("linear", linear), ("angular", angular)):
+            if d is None:
+                out.append([])
+                continue
+            if not isinstance(d, (list, tuple)) or len(d) not in (3, 6, 9) or not all(_is_real(x) for x in d):
+                fail(cmd, f"argument '{name}' must be a list of 3, 6 or 9 numbers (1 to 3 directions), got {d!r}")
+            for k in range(0, len(d), 3):
+                if all(x == 0 for x in d[k:k + 3]) and len(d) > 3:
+                    fail(cmd, f"argument '{name}': direction {k // 3 + 1} is zero")
+            out.append([float(x) for x in d] if any(x != 0 for x in d) else [])
+        if i in self.restraints:
+            lin0, ang0 = self.restraints[i]
+            out = [lin0 + out[0], ang0 + out[1]]
+            if len(out[0]) > 9 or len(out[1]) > 9:
+                fail(cmd, f"particle {i}: more than 3 restrained directions")
+        self.restraints[i] = out
+
+    def PRESCRIBE(self, parnum, linear=None, angular=None, kind="vv"):
+        cmd = "PRESCRIBE"
+        self._modifiable(cmd)
+        i = self._particle(cmd, "parnum", parnum)
+        if kind not in ("vv", "va", "av", "aa"):
+            fail(cmd, f"argument 'kind' must be 'vv', 'va', 'av' or 'aa', got {kind!r}")
+        if linear is None and angular is None:
+            fail(cmd, "expected 'linear' and/or 'angular'")
+        self.prescriptions[i] = {
+            "linear": None if linear is None else self._triple(cmd, "linear", linear),
+            "angular": None if angular is None else self._triple(cmd, "angular", angular),
+            "kind": kind}
+
+    def SPRING(self, part1, point1, part2, geom2, spring, dashpot=None, direction=None, planar=None, unload=None,
+               ylim=None, inactive=False, offset=None, friction=0.0, kskn=0.0):
+        cmd = "SPRING"
+        self._modifiable(cmd)
+        i = self._particle(cmd, "part1", part1)
+        j = self._particle(cmd, "part2", part2, allow_anchor=True)
+        p1 = _vec(cmd, "point1", point1)
+        plane = None
+        if isinstance(geom2, list) and len(geom2) == 2 and all(isinstance(g, (tuple, list)) for g in geom2):
+            p2 = _vec(cmd, "geom2 point", geom2[0])
+            plane = _vec(cmd, "geom2 normal", geom2[1])
+            if all(c == 0 for c in plane):
+                fail(cmd, "argument 'geom2': the plane normal is zero")
+        else:
+            p2 = _vec(cmd, "geom2", geom2)
+        s = {"part1": i, "part2": j, "point1": p1, "point2": p2, "plane": plane,
+             "spring": _table(cmd, "spring", spring), "inactive": bool(inactive)}
+        if dashpot is not None:
+            if _is_real(dashpot):
+                if dashpot < 0:
+                    fail(cmd, f"argument 'dashpot': a critical damping ratio must be >= 0, got {dashpot}")
+                s["ratio"] = float(dashpot)
+            else:
+                s["dashpot"] = _table(cmd, "dashpot", dashpot)
+        if direction is not None:
+            d = _vec(cmd, "direction", direction)
+            if all(c == 0 for c in d):
+                fail(cmd, "argument 'direction' must be non-zero")
+            s["direction"] = d
+        if planar is not None:
+            if planar not in ("ON", "OFF"):
+                fail(cmd, f"argument 'planar' must be 'ON' or 'OFF', got {planar!r}")
+            if planar == "ON" and direction is None:
+                fail(cmd, "argument 'planar' = 'ON' needs a 'direction'")
+            s["planar"] = planar == "ON"
+        if unload is not None:
+            u = _table(cmd, "unload", unload)
+            ys = u[1::2]
+            if any(b <= a for a, b in zip(ys, ys[1:])):
+                fail(cmd, "argument 'unload' must be strictly increasing")
+            s["unload"] = u
+        if ylim is not None:
+            y = _vec(cmd, "ylim", ylim, 2)
+            if not y[0] <= 0 <= y[1]:
+                fail(cmd, f"argument 'ylim' must satisfy ylim[0] <= 0 <= ylim[1], got {ylim!r}")
+            s["ylim"] = y
+        if offset is not None:
+            k = self._tseries_ref(cmd, "offset", offset)
+            if self.tseries[k][0] == "const":
+                fail(cmd, f"argument 'offset': TSERIES {k} is a constant; an offset needs >= 2 points")
+            s["offset"] = k
+        if not _is_real(friction) or friction < 0:
+            fail(cmd, f"argument 'friction' must be a number >= 0, got {friction!r}")
+        if not _is_real(kskn) or kskn < 0:
+            fail(cmd, f"argument 'kskn' must be a number >= 0, got {kskn!r}")
+        s["friction"], s["kskn"] = float(friction), float(kskn)
+        self.springs.append(s)
+        return len(self.springs) - 1
+
+    def TORSION_SPRING(self, part1, part2, zdir, xdir, kroll=None, kpitch=None, kyaw=None, droll=None, dpitch=None,
+                       dyaw=None, cone=None, refpnt=None):
+        cmd = "TORSION_SPRING"
+        self._modifiable(cmd)
+        i = self._particle(cmd, "part1", part1)
+        j = self._particle(cmd, "part2", part2, allow_anchor=True)
+        z, x = _vec(cmd, "zdir", zdir), _vec(cmd, "xdir", xdir)
+        nz, nx = math.sqrt(sum(c * c for c in z)), math.sqrt(sum(c * c for c in x))
+        if nz == 0 or nx == 0:
+            fail(cmd, "arguments 'zdir' and 'xdir' must be non-zero")
+        if abs(sum(a * b for a, b in zip(z, x))) / (nz * nx) > 1e-8:
+            fail(cmd, f"arguments 'zdir' {zdir!r} and 'xdir' {xdir!r} must be orthogonal")
+        t = {"part1": i, "part2": j, "zdir": z, "xdir": x}
+        for name, v in (("kroll", kroll), ("kpitch", kpitch), ("kyaw", kyaw)):
+            if v is not None:
+                t[name] = _table(cmd, name, v)
+        for name, v in (("droll", droll), ("dpitch", dpitch), ("dyaw", dyaw)):
+            if v is None:
+                continue
+            if _is_real(v):
+                if v < 0:
+                    fail(cmd, f"argument '{name}': a critical damping ratio must be >= 0, got {v}")
+                t[name] = float(v)
+            else:
+                t[name] = _table(cmd, name, v)
+        if cone is not None:
+            if not isinstance(cone, (tuple, list)) or len(cone) not in (2, 3) or len(set(cone)) != len(cone) or \
+                    any(c not in ("roll", "pitch", "yaw") for c in cone):
+                fail(cmd, f"argument 'cone' must be 2 or 3 distinct names of 'roll', 'pitch', 'yaw', got {cone!r}")
+            t["cone"] = list(cone)
+        if refpnt is not None:
+            t["refpnt"] = _vec(cmd, "refpnt", refpnt)
+        self.torsions.append(t)
+        return len(self.torsions) - 1
+
+    def UNSPRING(self, tsprings, msprings, limits, entity="SF", operator="SUM", abs=False, nsteps=1, nfreq=1,
+                 unload=None, activate=None):
+        cmd = "UNSPRING"
+        self._modifiable(cmd)
+        for name, lst in (("tsprings", tsprings), ("msprings", msprings)):
+            if not isinstance(lst, (list, tuple)) or not lst:
+                fail(cmd, f"argument '{name}' must be a non-empty list of spring numbers")
+            if len(set(lst)) != len(lst):
+                fail(cmd, f"argument '{name}' lists a spring twice: {list(lst)}")
+            for s in lst:
+                if not isinstance(s, int) or not 0 <= s < len(self.springs):
+                    fail(cmd, f"argument '{name}': {s!r} is not a spring number (0 ... {len(self.springs) - 1})")
+        if not isinstance(limits, (tuple, list)) or len(limits) != 2:
+            fail(cmd, f"argument 'limits' must be a tuple (min, max), got {limits!r}")
+        lo = -REAL_MAX if limits[0] is None else limits[0]
+        hi = REAL_MAX if limits[1] is None else limits[1]
+        if not lo < hi:
+            fail(cmd, f"argument 'limits' must satisfy min < max, got {limits!r}")
+        if entity not in ("STROKE", "F", "SF", "FF"):
+            fail(cmd, f"argument 'entity' must be 'STROKE', 'F', 'SF' or 'FF', got {entity!r}")
+        if operator not in ("SUM", "MIN", "MAX"):
+            fail(cmd, f"argument 'operator' must be 'SUM', 'MIN' or 'MAX', got {operator!r}")
+        for name, v in (("nsteps", nsteps), ("nfreq", nfreq)):
+            if not isinstance(v, int) or v < 1:
+                fail(cmd, f"argument '{name}' must be an integer >= 1, got {v!r}")
+        umap = {}
+        if unload is not None:
+            if isinstance(unload, dict):
+                for k, v in unload.items():
+                    if k not in msprings:
+                        fail(cmd, f"argument 'unload': spring {k!r} is not in msprings")
+                    umap[k] = self._tseries_ref(cmd, "unload", v)
+            else:
+                umap = {None: self._tseries_ref(cmd, "unload", unload)}
+            for k in umap.values():
+                if self.tseries[k][0] == "const":
+                    fail(cmd, f"argument 'unload': TSERIES {k} is a constant; an unload curve needs >= 2 points")
+        act = list(activate or [])
+        for s in act:
+            if not isinstance(s, int) or not 0 <= s < len(self.springs):
+                fail(cmd, f"argument 'activate': {s!r} is not a spring number")
+            if not self.springs[s]["inactive"]:
+                fail(cmd, f"argument 'activate': spring {s} is not inactive")
+        for u in self.unsprings:
+            both = set(u["msprings"]) & set(msprings)
+            if both:
+                fail(cmd, f"springs {sorted(both)} are already managed by an earlier UNSPRING")
+        for s in msprings:
+            if self.springs[s]["inactive"]:
+                fail(cmd, f"argument 'msprings': spring {s} is inactive")
+        self.unsprings.append({"tsprings": list(tsprings), "msprings": list(msprings), "limits": (lo, hi),
+                               "entity": entity, "operator": operator, "abs": bool(abs), "nsteps": nsteps,
+                               "nfreq": nfreq, "unload": umap, "activate": act})
+        return len(self.unsprings) - 1
+
+    def EQM(self, part1, point1, part2=None, point2=None, direction=None):
+        """Equivalent point mass (spec §12); quirk Q17 fixed: the minimum eigenvalue of M⁻¹ always."""
+        cmd = "EQM"
+        parts = [(self._particle(cmd, "part1", part1), _vec(cmd, "point1", point1))]
+        if part2 is not None:
+            parts.append((self._particle(cmd, "part2", part2), _vec(cmd, "point2", point2)))
+        Minv = [[0.0] * 3 for _ in range(3)]
+        for i, P in parts:
+            p = self.particles[i]
+            A = [p.centre[c] - P[c] for c in range(3)]
+            Ax = [[0, -A[2], A[1]], [A[2], 0, -A[0]], [-A[1], A[0], 0]]
+            Ji = geo.inv3(p.inertia)
+            for r in range(3):
+                for c in range(3):
+                    s = sum(Ax[k][r] * sum(Ji[k][l] * Ax[l][c] for l in range(3)) for k in range(3))
+                    Minv[r][c] += s + (1.0 / p.mass if r == c else 0.0)
+        if direction is not None:
+            d = _vec(cmd, "direction", direction)
+            if any(c != 0 for c in d):
+                return 1.0 / sum(d[r] * sum(Minv[r][c] * d[c] for c in range(3)) for r in range(3))
+        import numpy as np
+        return 1.0 / float(min(np.linalg.eigvalsh(np.array(Minv))))
+
+    def CRITICAL(self, perspring=None, perparticle=None):
+        cmd = "CRITICAL"
+        if perspring is not None:
+            fail(cmd, "argument 'perspring' is not supported (the smallest per-spring estimate is the fix's f_S[1])")
+        if perparticle is not None:
+            fail(cmd, "argument 'perparticle' is not supported")
+        from .runner import critical_step
+        return critical_step(self)
+
+    def HISTORY(self, entity, source=0, point=None, h5file=None, h5last=False):
+        cmd = "HISTORY"
+        from .history import request
+        if h5file is not None:
+            fail(cmd, "argument 'h5file' is not supported")
+        return request(self, entity, source, point)
+
+    def OUTPUT(self, entities=None, subset=None, mode=None, format=None):
+        cmd = "OUTPUT"
+        fmts = format if isinstance(format, (list, tuple)) else [format or "XDMF"]
+        for f in fmts:
+            if f not in ("DUMP", "VTK", "XDMF", "MED"):
+                fail(cmd, f"argument 'format': unknown format {f!r}")
+            if f != "DUMP":
+                fail(cmd, f"argument 'format' = {f!r} is not supported (only 'DUMP', LAMMPS dump files that ParaView "
+                          "opens with its LAMMPS reader)")
+        if subset is not None:
+            sub = subset if isinstance(subset, (list, tuple)) else [subset]
+            for i in sub:
+                self._particle(cmd, "subset", i)
+        else:
+            sub = None
+        if mode is not None:
+            modes = mode if isinstance(mode, (list, tuple)) else [mode]
+            for m in modes:
+                if m not in ("SPH", "MESH", "RB", "CD", "SL", "ST", "JT"):
+                    fail(cmd, f"argument 'mode': unknown mode {m!r}")
+        self.outputs.append({"subset": sub})
+
+    def DEM(self, duration, step, interval=None, prefix=None, adaptive=0.0):
+        cmd = "DEM"
+        if not _is_real(duration) or duration <= 0:
+            fail(cmd, f"argument 'duration' must be a number > 0, got {duration!r}")
+        if not _is_real(step) or step <= 0:
+            fail(cmd, f"argument 'step' must be a number > 0, got {step!r}")
+        if adaptive:
+            fail(cmd, "argument 'adaptive' (adaptive time stepping) is not supported")
+        if interval is None:
+            files = hist = float(step)
+        elif _is_real(interval):
+            files = hist = float(interval)
+        elif isinstance(interval, (tuple, list)) and len(interval) == 2 and all(_is_real(v) for v in interval):
+            files, hist = float(interval[0]), float(interval[1])
+        else:
+            fail(cmd, "argument 'interval' must be a number or a tuple (files, history) of numbers "
+                      "(callbacks and TSERIES intervals are not supported)")
+        if files <= 0 or hist <= 0:
+            fail(cmd, "argument 'interval' must be > 0")
+        if not self.particles:
+            fail(cmd, "no particles defined")
+        from .runner import run_dem
+        return run_dem(self, float(duration), float(step), files, hist, prefix)

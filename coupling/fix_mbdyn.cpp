@@ -151,7 +151,8 @@ std::string num(double v)
 
 const char *kKeywords =
     "path, port, host, create, coupling, orientation, labels, accelerations, reference_node, node, "
-    "substeps, mbdyn_dt, loads, gravity, connect_timeout, io_timeout, tolerance, max_iterations";
+    "substeps, mbdyn_dt, loads, predictor, startup_exchange, gravity, connect_timeout, io_timeout, tolerance, "
+    "max_iterations";
 
 }  // namespace
 
@@ -230,6 +231,13 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
       if (v == "average") extrapolate_ = false;
       else if (v == "extrapolate") extrapolate_ = true;
       else error->all(FLERR, prefix + "keyword 'loads' expects average or extrapolate, got '" + v + "'");
+    } else if (kw == "predictor") {
+      const std::string v = value("mbdyn or correct");
+      if (v == "mbdyn") correct_predictor_ = false;
+      else if (v == "correct") correct_predictor_ = true;
+      else error->all(FLERR, prefix + "keyword 'predictor' expects mbdyn or correct, got '" + v + "'");
+    } else if (kw == "startup_exchange") {
+      startup_exchange_ = parse_yes_no(kw, value("yes or no"), prefix, error);
     } else if (kw == "gravity") {
       include_gravity_ = parse_yes_no(kw, value("yes or no"), prefix, error);
     } else if (kw == "connect_timeout") {
@@ -261,6 +269,8 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
   o.endpoint = path.empty() ? mb::Endpoint::tcp(host, static_cast<std::uint16_t>(port)) : mb::Endpoint::unix_path(path);
   o.nodal.num_points = static_cast<std::uint32_t>(nodes_.size());
   tight_ = o.coupling == mb::Coupling::Tight;
+  if (!startup_exchange_ && !tight_)
+    error->all(FLERR, prefix + "'startup_exchange no' is for coupling tight (in loose MBDyn always exchanges at t0)");
   payload_.resize(o.nodal.kinematics_payload_bytes());
 
   const int n = static_cast<int>(nodes_.size());
@@ -307,7 +317,7 @@ FixMBDyn::~FixMBDyn()
   // io_timeout; after an error only the session's own abort (send 5) happens.
   if (comm->me == 0 && session_ && !failed_ && !ended_ && !session_->finished()) {
     try {
-      const bool answered = substep_ == 0 && !t0_answer_pending_;
+      const bool answered = substep_ == 0 && !t0_answer_pending_ && !first_is_step1_;
       bool done = false;
       if (answered) done = !session_->receive().is_kinematics();
       if (!done) {
@@ -744,6 +754,54 @@ double FixMBDyn::pose_change(const std::vector<Pose> &a, const std::vector<Pose>
   return d;
 }
 
+namespace {
+// Rotation by the rotation vector th (global axes), Rodrigues' formula, row-major.
+M9 rotation_of(const V3 &th)
+{
+  const double a = std::sqrt(th[0] * th[0] + th[1] * th[1] + th[2] * th[2]);
+  if (a < 1e-300) return {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  const double k[3] = {th[0] / a, th[1] / a, th[2] / a}, s = std::sin(a), c = 1 - std::cos(a);
+  return {1 - c * (k[1] * k[1] + k[2] * k[2]), -s * k[2] + c * k[0] * k[1], s * k[1] + c * k[0] * k[2],
+          s * k[2] + c * k[0] * k[1], 1 - c * (k[0] * k[0] + k[2] * k[2]), -s * k[0] + c * k[1] * k[2],
+          -s * k[1] + c * k[0] * k[2], s * k[0] + c * k[1] * k[2], 1 - c * (k[0] * k[0] + k[1] * k[1])};
+}
+}  // namespace
+
+void FixMBDyn::correct_prediction(const std::vector<Pose> &msg)
+{
+  // MBDyn's crank nicolson predictor sends v_p = v_{k-1}, x_p = x_{k-1} + T v_{k-1} (and the
+  // orientation advanced by T w_{k-1}): an O(T) error in v and O(T^2) in x that enters the load
+  // frozen for the whole step, so loose coupling is first order. The previous message carried
+  // v_{k-2}; the converged state of step k-1 is recovered from this one, and the end-of-step pose
+  // is extrapolated to second order: v* = 2 v_{k-1} - v_{k-2}, x* = x_{k-1} + T/2 (v_{k-1} + v*)
+  // (the trapezoidal rule), the same for w and the orientation. Pose A of the sub-step
+  // interpolation becomes the recovered converged state.
+  const double T = substeps_ * update->dt;
+  if (prev_msg_.size() != msg.size()) {
+    prev_msg_ = msg;
+    return;
+  }
+  for (std::size_t k = 0; k < msg.size(); ++k) {
+    const Pose &P = msg[k], &Q = prev_msg_[k];
+    Pose A = P, B = P;
+    V3 back{}, half{};
+    for (int c = 0; c < 3; ++c) {
+      A.x[c] = P.x[c] - T * P.v[c];
+      const double dv = P.v[c] - Q.v[c], dw = P.w[c] - Q.w[c];
+      B.v[c] = P.v[c] + dv;
+      B.x[c] = P.x[c] + 0.5 * T * dv;
+      B.w[c] = P.w[c] + dw;
+      back[c] = -T * P.w[c];
+      half[c] = 0.5 * T * dw;
+    }
+    A.R = mat_mul(rotation_of(back), P.R);
+    B.R = mat_mul(rotation_of(half), P.R);
+    poseA_[k] = A;
+    poseB_[k] = B;
+  }
+  prev_msg_ = msg;
+}
+
 void FixMBDyn::setup_pre_exchange()
 {
   if (ended_) return;
@@ -753,6 +811,7 @@ void FixMBDyn::setup_pre_exchange()
     if (m.status == 1)
       fail_all("MBDyn ended the simulation (sent 5) before sending its initial kinematics");
     decode_to_global(poseA_);
+    prev_msg_.clear();
     bind_atoms();
     cur_ = poseA_;
     poseB_ = poseA_;
@@ -765,9 +824,19 @@ void FixMBDyn::setup_pre_exchange()
 void FixMBDyn::setup(int)
 {
   if (!t0_answer_pending_ || ended_) return;
-  // The t0 answer feeds MBDyn's initial derivatives; tight coupling answers it with 6 (spec T1).
   std::vector<double> loads;
   accumulate_loads(cur_, loads);
+  if (tight_ && !startup_exchange_) {
+    // MBDyn's derivatives solve did not exchange (zero initial residual, spec T2): this first
+    // message is already step 1's prediction; the first LAMMPS step answers it as an iterate.
+    prev_avg_ = loads;
+    prev_is_t0_ = true;
+    t0_answer_pending_ = false;
+    first_is_step1_ = true;
+    substep_ = 0;
+    return;
+  }
+  // The t0 answer feeds MBDyn's initial derivatives; tight coupling answers it with 6 (spec T1).
   send_answer(loads, true, "the loads for MBDyn's initial state (t0)");
   prev_avg_ = loads;
   prev_is_t0_ = true;
@@ -783,14 +852,23 @@ void FixMBDyn::post_integrate()
     return;
   }
   if (substep_ == 0) {
-    const Message m = receive_broadcast("MBDyn's kinematics of its next step");
-    if (m.status == 1) {
-      stop_run_at_end(m);
-      apply_pose(cur_, true);
-      return;
+    if (first_is_step1_) {
+      first_is_step1_ = false;  // poseB_ holds the message received at setup
+      mbdyn_step_ = 1;
+    } else {
+      const Message m = receive_broadcast("MBDyn's kinematics of its next step");
+      if (m.status == 1) {
+        stop_run_at_end(m);
+        apply_pose(cur_, true);
+        return;
+      }
+      mbdyn_step_ = m.step;
+      decode_to_global(poseB_);
+      if (correct_predictor_) {
+        const std::vector<Pose> msg = poseB_;
+        correct_prediction(msg);
+      }
     }
-    mbdyn_step_ = m.step;
-    decode_to_global(poseB_);
     std::fill(fsum_.begin(), fsum_.end(), 0.0);
   }
   ++substep_;

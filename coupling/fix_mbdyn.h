@@ -80,6 +80,7 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   void reevaluate_forces(int vflag);
   void stop_run_at_end(const Message &m);
   double pose_change(const std::vector<Pose> &a, const std::vector<Pose> &b) const;
+  void correct_prediction(const std::vector<Pose> &msg);
 
   // configuration
   std::vector<NodeSpec> nodes_;
@@ -89,6 +90,8 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   bool include_gravity_ = false;
   bool tight_ = false;
   bool extrapolate_ = false;  // loads extrapolate: sub-step average shifted to the end of the step
+  bool correct_predictor_ = false;  // predictor correct: loads at a second-order end-of-step pose
+  bool startup_exchange_ = true;    // tight: the first message is the t0 (derivatives) exchange
   double tolerance_ = 1e-9;
   int max_iterations_ = 10;
 
@@ -107,6 +110,8 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   bool in_reeval_ = false;  // tight re-evaluation in progress
   int substep_ = 0;         // 0: the next step starts a new MBDyn step (receive)
   bool t0_answer_pending_ = false;
+  bool first_is_step1_ = false;     // tight, startup_exchange no: first message already received
+  std::vector<Pose> prev_msg_;      // loose, predictor correct: the previous message as received
   std::unordered_map<LAMMPS_NS::tagint, Member> members_;
   int allbits_ = 0;  // union of the group bits of coupled groups (0 if only atoms)
   std::vector<Pose> poseA_, poseB_, cur_;

@@ -25,7 +25,9 @@ const char* kUsage =
     "  --mass M  --inertia J  --gravity gx,gy,gz\n"
     "  --x0 x,y,z  --v0 vx,vy,vz   initial state of the next node (repeat per node)\n"
     "  --offset ox,oy,oz        offset of the next node's point, node frame (repeat per node)\n"
-    "  --max-iterations N  --derivatives-max-iterations N   (tight)\n"
+    "  --force fx,fy,fz         constant absolute force on every node (MBDyn `force`)\n"
+    "  --max-iterations N (20)  --derivatives-max-iterations N (10)\n"
+    "  --tolerance T (1e-9)  --derivatives-tolerance T (1e-6)  --derivatives-coefficient C (1e-6)\n"
     "  --accept-timeout S  --io-timeout S   (default 30 each; <= 0 waits forever like MBDyn)\n"
     "  --fault none|garbage-command|short-then-close|short-then-stall|nan|die  --fault-message K\n"
     "  --trajectory FILE        write t, then per node x y z vx vy vz theta theta_dot\n";
@@ -86,6 +88,10 @@ int main(int argc, char** argv) {
     else if (a == "--x0") x0.push_back(parse_v3(value()));
     else if (a == "--v0") v0.push_back(parse_v3(value()));
     else if (a == "--offset") s.model.offset.push_back(parse_v3(value()));
+    else if (a == "--force") s.model.force = parse_v3(value());
+    else if (a == "--tolerance") s.tolerance = std::stod(value());
+    else if (a == "--derivatives-tolerance") s.derivatives_tolerance = std::stod(value());
+    else if (a == "--derivatives-coefficient") s.model.derivatives_coefficient = std::stod(value());
     else if (a == "--max-iterations") s.max_iterations = std::stoi(value());
     else if (a == "--derivatives-max-iterations") s.derivatives_max_iterations = std::stoi(value());
     else if (a == "--accept-timeout") s.accept_timeout_s = std::stod(value());

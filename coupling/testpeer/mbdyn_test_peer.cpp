@@ -18,8 +18,7 @@ struct RunEnds {
 
 struct Answer {
   std::uint8_t cmd = 0;
-  std::vector<V3> force;        // global
-  std::vector<double> moment_z;  // global z component
+  NodeLoads loads;  // global force, z moment about the node
 };
 
 class PeerRun {
@@ -231,9 +230,9 @@ class PeerRun {
         f = rotate_vector(ref_.R, f);  // point loads are in the reference node's frame (spec §4.3)
         mo = rotate_vector(ref_.R, mo);
       }
-      a.force.push_back(f);
+      a.loads.force.push_back(f);
       // Without orientation there are no moments at all (spec §4.4).
-      a.moment_z.push_back(rotates() ? model_.node_moment_z(i, last_sent_[i], f, mo) : 0.0);
+      a.loads.moment_z.push_back(rotates() ? model_.node_moment_z(i, last_sent_[i], f, mo) : 0.0);
     }
     out_.last_loads = m;
     return a;
@@ -243,64 +242,86 @@ class PeerRun {
 
   // The peer asked to stop (5): keep the loads, finish the step, send 5, exit 2 (spec §6).
   [[noreturn]] void peer_requested_end(int step) {
-    const auto done = model_.step(s_.dt, loads_.force, loads_.moment_z);
     if (step > 0) {
-      model_.accept(done);
+      model_.accept(model_.solve(s_.dt, loads_));
       record(step * s_.dt);
     }
     throw RunEnds{2, "ExtSocketHandler: peer requested end of simulation; MBDyn was interrupted", true};
   }
 
-  void take_loads(const Answer& a) {
-    if (a.cmd == 2 || a.cmd == 6) {
-      loads_.force = a.force;
-      loads_.moment_z = a.moment_z;
-    }
+  // Reads an answer; returns true when the peer declared convergence (6 or 4). 4 keeps the loads.
+  bool read_and_take(int step, bool loose) {
+    const Answer a = read_answer();
+    if (a.cmd == 5) peer_requested_end(step);
+    if (loose && a.cmd == 2)
+      throw RunEnds{1, "peer answered 2 in loose coupling: the stream desynchronises (spec 5.1)", true};
+    if (a.cmd == 2 || a.cmd == 6) loads_ = a.loads;
+    return a.cmd == 6 || a.cmd == 4;
+  }
+
+  // MBDyn's Newton loop for one step once the loads are frozen (loose) or after the peer declared
+  // convergence (tight): the predicted state stands if its residual is within tolerance,
+  // otherwise one correction solves the linear step for these loads.
+  std::vector<BodyState> converge_with_frozen_loads(const std::vector<BodyState>& iterate) const {
+    if (model_.residual_norm(iterate, loads_) <= s_.tolerance) return iterate;
+    return model_.solve(s_.dt, loads_);
   }
 
   void run_loose() {
     send_kinematics(6, model_.state());  // start-up: initial state (spec §5)
-    Answer a = read_answer();           // initial-derivatives solve reads one load message
-    if (a.cmd == 5) peer_requested_end(0);
-    if (a.cmd == 2) throw RunEnds{1, "peer answered 2 in loose coupling: the stream desynchronises (spec 5.1)", true};
-    take_loads(a);
-    model_.set_loads_at_current_state(loads_.force, loads_.moment_z);
+    read_and_take(0, true);             // the initial-derivatives solve reads one load message
+    if (model_.residual_norm(model_.state(), loads_, false) > s_.derivatives_tolerance)
+      model_.derivatives_update(loads_, s_.dt);
     record(0.0);
     for (int k = 1; k <= s_.steps; ++k) {
-      send_kinematics(6, model_.predict(s_.dt, k == 1));
-      a = read_answer();
-      if (a.cmd == 5) peer_requested_end(k);
-      if (a.cmd == 2) throw RunEnds{1, "peer answered 2 in loose coupling: the stream desynchronises (spec 5.1)", true};
-      take_loads(a);  // 4 keeps the previous loads
-      model_.accept(model_.step(s_.dt, loads_.force, loads_.moment_z));
+      const std::vector<BodyState> predicted = model_.predict(s_.dt);
+      send_kinematics(6, predicted);
+      read_and_take(k, true);
+      model_.accept(converge_with_frozen_loads(predicted));
       record(k * s_.dt);
     }
   }
 
+  // MBDyn reads loads in the residual of every Newton iteration that follows a kinematics message,
+  // and sends kinematics after every update until the peer has answered 6 or 4 (spec §5.2).
   void run_tight() {
+    // Initial derivatives: iterates (and so exchanges) only if the residual at t0 without the
+    // peer's loads is not already within tolerance (spec T2; the first message then is step 1's).
+    bool outstanding = false, peer_converged = false;
     for (int it = 0;; ++it) {
-      send_kinematics(2, model_.state());  // derivatives iterations send cmd 2 (spec T1)
-      const Answer a = read_answer();
-      if (a.cmd == 5) peer_requested_end(0);
-      take_loads(a);
-      model_.set_loads_at_current_state(loads_.force, loads_.moment_z);
-      if (a.cmd == 6 || a.cmd == 4) break;
-      if (it + 1 >= s_.derivatives_max_iterations)
+      if (outstanding) {
+        peer_converged = read_and_take(0, false) || peer_converged;
+        outstanding = false;
+      }
+      if (model_.residual_norm(model_.state(), loads_, false) <= s_.derivatives_tolerance) break;
+      if (it >= s_.derivatives_max_iterations)
         throw RunEnds{1, "Initial derivatives calculation 1 does not converge; aborting...", true};
+      model_.derivatives_update(loads_, s_.dt);
+      if (!peer_converged) {
+        send_kinematics(2, model_.state());
+        outstanding = true;
+      }
     }
     record(0.0);
     for (int k = 1; k <= s_.steps; ++k) {
-      std::vector<BodyState> iterate = model_.predict(s_.dt, k == 1);
+      std::vector<BodyState> iterate = model_.predict(s_.dt);
+      send_kinematics(2, iterate);  // send after predict
+      outstanding = true;
+      peer_converged = false;
       for (int j = 0;; ++j) {
-        send_kinematics(2, iterate);
-        const Answer a = read_answer();
-        if (a.cmd == 5) peer_requested_end(k);
-        take_loads(a);
-        iterate = model_.step(s_.dt, loads_.force, loads_.moment_z);
-        if (a.cmd == 6 || a.cmd == 4) break;  // converged: finish the step with frozen loads
-        if (j + 1 >= s_.max_iterations)
+        if (outstanding) {
+          peer_converged = read_and_take(k, false) || peer_converged;
+          outstanding = false;
+        }
+        if (peer_converged && model_.residual_norm(iterate, loads_) <= s_.tolerance) break;
+        if (j >= s_.max_iterations)
           throw RunEnds{1, "Max iterations number " + std::to_string(s_.max_iterations) +
                                " has been reached during step " + std::to_string(k), true};
+        iterate = model_.solve(s_.dt, loads_);
+        if (!peer_converged) {
+          send_kinematics(2, iterate);
+          outstanding = true;
+        }
       }
       model_.accept(iterate);
       record(k * s_.dt);
@@ -311,11 +332,12 @@ class PeerRun {
     // One-way stream (spec §5.3): start-up, after the derivatives, after every step
     // (1002 messages for 1000 steps, verified). Nothing is read.
     send_kinematics(6, model_.state());
-    model_.set_loads_at_current_state(loads_.force, loads_.moment_z);
+    if (model_.residual_norm(model_.state(), loads_, false) > s_.derivatives_tolerance)
+      model_.derivatives_update(loads_, s_.dt);
     send_kinematics(6, model_.state());
     record(0.0);
     for (int k = 1; k <= s_.steps; ++k) {
-      model_.accept(model_.step(s_.dt, loads_.force, loads_.moment_z));
+      model_.accept(converge_with_frozen_loads(model_.predict(s_.dt)));
       record(k * s_.dt);
       send_kinematics(6, model_.state());
     }
@@ -326,7 +348,7 @@ class PeerRun {
   PeerSocket sock_;
   PeerOutcome out_;
   NodeState ref_;
-  Answer loads_;
+  NodeLoads loads_;
   std::vector<BodyState> last_sent_;  // pose the next loads answer refers to
 };
 

@@ -37,8 +37,10 @@ struct PeerSetup {
   int steps = 10;
   double dt = 1e-3;
   OscillatorParameters model;  // initial states default to a fixed, non-trivial set; offsets 0
-  int max_iterations = 20;             // tight: exchanges per step before MBDyn gives up
-  int derivatives_max_iterations = 10;  // tight: t0 exchanges (spec T1)
+  int max_iterations = 20;             // MBDyn `max iterations` (Newton iterations per step)
+  int derivatives_max_iterations = 10;  // MBDyn `derivatives max iterations` (spec T1)
+  double tolerance = 1e-9;              // MBDyn `tolerance` (residual norm)
+  double derivatives_tolerance = 1e-6;  // MBDyn `derivatives tolerance`
   double accept_timeout_s = 10.0;
   double io_timeout_s = 10.0;  // the real MBDyn waits forever; tests must not
   Fault fault = Fault::None;

@@ -1,7 +1,19 @@
-// The small MBDyn model the test peer integrates: N point masses m (plus optional gravity), each
-// also spinning about the global z axis with inertia J. Forces and the z moment come from the
-// coupled peer, so e.g. a spring on the peer side makes each node a harmonic oscillator.
-// Time integration is the trapezoidal rule (Newmark average acceleration), second order.
+// The small MBDyn model the test peer integrates: N point masses m (plus optional gravity and a
+// constant force), each also spinning about the global z axis with inertia J. Forces and the z
+// moment come from the coupled peer, so e.g. a spring on the peer side makes each node a harmonic
+// oscillator.
+//
+// Integrated the way MBDyn 1.7.3 integrates a dynamic structural node with `method: crank
+// nicolson` (learnt from MBDyn's stepsol / strnode sources and checked against the recorded real
+// runs in tests/data/mbdyn/): every degree of freedom has a position x with derivative v and a
+// momentum q with derivative qp;
+//   initial derivatives: qp0 = F(t0), q0 = m v0 + c qp0 (c = derivatives coefficient * dt), x0 and
+//                        v0 kept (MBDyn restores the node's position and velocity);
+//   predictor:           v = v_{-1}, x = x_{-1} + dt v_{-1}, qp = qp_{-1}, q = q_{-1} + dt qp_{-1};
+//   corrector:           qp = F, q = q_{-1} + dt/2 (qp_{-1} + qp), v = q / m,
+//                        x = x_{-1} + dt/2 (v_{-1} + v)   (the external loads have no Jacobian, so
+//                        one Newton correction solves the step for given loads exactly).
+// The residual whose norm MBDyn tests is (F - qp, q - m v) over every degree of freedom.
 #pragma once
 
 #include <vector>
@@ -11,17 +23,27 @@
 namespace dembridge::mbdyn::testpeer {
 
 struct BodyState {
-  V3 x{}, v{}, a{};
+  V3 x{}, v{}, a{};                 // a = qp / m (what MBDyn sends with `accelerations, yes`)
   double theta = 0, theta_dot = 0, theta_ddot = 0;  // spin about global z
+  V3 q{}, qp{};                     // momentum and its derivative (force)
+  double q_theta = 0, qp_theta = 0;  // angular momentum about z and its derivative
 };
 
 struct OscillatorParameters {
   double mass = 1.0;
   double inertia = 1.0;
   V3 gravity{0, 0, 0};
-  std::vector<BodyState> initial;  // one per node
+  V3 force{0, 0, 0};               // constant absolute force on every node (MBDyn `force`)
+  double derivatives_coefficient = 1e-6;  // MBDyn's default, multiplied by dt
+  std::vector<BodyState> initial;  // one per node (x, v, theta, theta_dot)
   std::vector<double> tilt;        // per node: R = Rz(theta) * Rx(tilt), so all 3 axes vary
   std::vector<V3> offset;          // per node, node frame: MBDyn's `offset` of the point
+};
+
+// Loads from the peer on the nodes (global force, z moment about the node).
+struct NodeLoads {
+  std::vector<V3> force;
+  std::vector<double> moment_z;
 };
 
 class OscillatorModel {
@@ -30,13 +52,18 @@ class OscillatorModel {
 
   std::size_t size() const { return state_.size(); }
   const std::vector<BodyState>& state() const { return state_; }
-  // Accelerations from loads on the current state (the t0 "initial derivatives").
-  void set_loads_at_current_state(const std::vector<V3>& force, const std::vector<double>& moment_z);
-  // MBDyn's predictor: step 1 repeats the initial state (spec §5), later a Taylor extrapolation.
-  std::vector<BodyState> predict(double dt, bool first_step) const;
-  // Trapezoidal step from the converged state with the given end-of-step loads.
-  std::vector<BodyState> step(double dt, const std::vector<V3>& force, const std::vector<double>& moment_z) const;
   void accept(const std::vector<BodyState>& s) { state_ = s; }
+
+  // Norm of MBDyn's residual for state s under loads; without the momentum rows when
+  // with_momentum is false (the initial-derivatives solve, where they are c F by construction).
+  double residual_norm(const std::vector<BodyState>& s, const NodeLoads& loads, bool with_momentum = true) const;
+  // One Newton update of the initial-derivatives solve on the current state (x, v kept).
+  void derivatives_update(const NodeLoads& loads, double dt);
+  // Crank-Nicolson predictor from the current (converged) state.
+  std::vector<BodyState> predict(double dt) const;
+  // The step from the current state solved for the given end-of-step loads.
+  std::vector<BodyState> solve(double dt, const NodeLoads& loads) const;
+
   // Kinematics of node i's point (global frame) for the wire, at its offset (spec §4.3):
   // x = x_n + R o, v = v_n + w x R o, a = a_n + wdot x R o + w x (w x R o); R, w, wdot = node's.
   NodeState point_of(std::size_t i, const BodyState& b, std::uint32_t label) const;
@@ -45,6 +72,7 @@ class OscillatorModel {
   double node_moment_z(std::size_t i, const BodyState& b, const V3& f, const V3& m) const;
 
  private:
+  V3 total_force(std::size_t i, const NodeLoads& loads) const;
   OscillatorParameters p_;
   std::vector<BodyState> state_;
 };

@@ -111,14 +111,17 @@ run {steps}
 """
 
 
-def spring_mass_error(sockdir, dt, substeps=1, coupling="loose", T=2.0, nprocs=1, extra=""):
+def spring_mass_error(sockdir, dt, substeps=1, coupling="loose", T=2.0, nprocs=1, extra="", peer_extra=(),
+                      before_fix=""):
     sock = os.path.join(sockdir, "s.sock")
     traj = os.path.join(sockdir, f"traj_{dt}_{substeps}_{coupling}.txt")
     ksteps = int(round(T / dt))
     peer = Peer(sock, "--nodes", "1", "--orientation", "none", "--coupling", coupling, "--steps", str(ksteps),
-                "--dt", repr(dt), "--mass", str(M), "--x0", f"{X0},0,0", "--v0", "0,0,0", traj=traj)
-    rc, out, _ = run_lammps(spring_mass_deck(sock, dt / substeps, substeps, ksteps * substeps, coupling, extra),
-                            sockdir, nprocs=nprocs)
+                "--dt", repr(dt), "--mass", str(M), "--x0", f"{X0},0,0", "--v0", "0,0,0", *peer_extra, traj=traj)
+    deck = spring_mass_deck(sock, dt / substeps, substeps, ksteps * substeps, coupling, extra)
+    if before_fix:
+        deck = deck.replace("fix M all mbdyn", before_fix + "\nfix M all mbdyn")
+    rc, out, _ = run_lammps(deck, sockdir, nprocs=nprocs)
     prc, pout = peer.finish()
     assert rc == 0, out[-3000:]
     assert prc == 0, pout
@@ -135,8 +138,8 @@ def test_spring_mass_loose_follows_analytic_and_converges(sockdir):
     print(f"loose N=1: max |x - x_analytic| dt=4ms {e1:.3e}, 2ms {e2:.3e}, 1ms {e3:.3e}; "
           f"ratios {e1 / e2:.2f} {e2 / e3:.2f}")
     assert e1 < 0.01 * X0
-    # the coupling lag error falls at least linearly with dt (measured: about quadratically, since
-    # the loads are taken at MBDyn's second-order predicted pose)
+    # the coupling lag error falls at least linearly with dt (MBDyn's crank nicolson predictor sends
+    # v_{k-1} and x_{k-1} + dt v_{k-1}: first order, as with the real MBDyn, tests/data/mbdyn)
     assert e1 / e2 > 1.8 and e2 / e3 > 1.8
 
 
@@ -197,11 +200,21 @@ def monolithic_trapezoid(dt, steps):
     return out
 
 
+# Tight: a constant force in MBDyn and its opposite on the coupled atom (doc/fix_mbdyn.md, the
+# start-up remedy) make MBDyn's initial residual non-zero, so the derivatives solve exchanges and
+# a0 includes the peer's load; MBDyn's c F0 momentum offset at t0 is switched off in the peer so
+# the monolithic trapezoid below is exact.
+TIGHT_REMEDY = dict(peer_extra=("--force", "1,0,0", "--derivatives-coefficient", "0"),
+                    before_fix="fix R all addforce -1 0 0")
+
+
 def test_spring_mass_tight(sockdir):
     """Tight: every MBDyn iterate gets the loads for its kinematics, so the coupled run converges to
     the monolithic implicit (trapezoidal) solution of the whole spring-mass system."""
-    et1, rows1, pout = spring_mass_error(sockdir, 0.004, coupling="tight", extra="tolerance 1e-12 max_iterations 15")
-    et2, _, _ = spring_mass_error(sockdir, 0.002, coupling="tight", extra="tolerance 1e-12 max_iterations 15")
+    et1, rows1, pout = spring_mass_error(sockdir, 0.004, coupling="tight", extra="tolerance 1e-12 max_iterations 15",
+                                         **TIGHT_REMEDY)
+    et2, _, _ = spring_mass_error(sockdir, 0.002, coupling="tight", extra="tolerance 1e-12 max_iterations 15",
+                                  **TIGHT_REMEDY)
     el1, rowsl, _ = spring_mass_error(sockdir, 0.004, coupling="loose")
     mono = monolithic_trapezoid(0.004, 500)
     dev_tight = max(abs(r[1] - m) for r, m in zip(rows1, mono))
@@ -217,7 +230,8 @@ def test_spring_mass_tight(sockdir):
     assert dev_loose > 100 * dev_tight
     # tight with sub-cycling: the iterates re-evaluate the end-of-step sub-step only
     ets, _, pout = spring_mass_error(sockdir, 0.004, substeps=4, coupling="tight",
-                                     extra="tolerance 1e-12 max_iterations 15 loads extrapolate")
+                                     extra="tolerance 1e-12 max_iterations 15 loads extrapolate predictor correct",
+                                     **TIGHT_REMEDY)
     print(f"tight, N=4, loads extrapolate: {ets:.3e} ({pout.strip()})")
     assert ets < 2e-5
 
@@ -572,7 +586,8 @@ def test_tight_iterations_do_not_disturb_the_particles(sockdir):
         sock = os.path.join(sockdir, "t.sock")
         dump = os.path.join(sockdir, f"bed_{maxit}_{nprocs}.dump")
         peer = Peer(sock, "--nodes", "1", "--orientation", "matrix", "--coupling", "tight", "--steps", "200",
-                    "--dt", "1e-4", "--mass", "1e12", "--inertia", "1e12", "--v0", "0,0,0", "--x0", "0,0,0.1")
+                    "--dt", "1e-4", "--mass", "1e12", "--inertia", "1e12", "--v0", "0,0,0", "--x0", "0,0,0.1",
+                    "--force", "0,0,1")  # non-zero initial residual: MBDyn's start-up exchange (spec T2)
         deck = plate_deck(sock, os.path.join(sockdir, "p.dump"), procs="processors 2 1 1" if nprocs == 2 else "")
         deck = deck.replace("orientation matrix", f"orientation matrix coupling tight tolerance 0 max_iterations {maxit}")
         deck = deck.replace("run 200", f"dump b bed custom 20 {dump} id x y z vx vy vz\ndump_modify b format float %.17g sort id\nrun 200")
@@ -583,7 +598,9 @@ def test_tight_iterations_do_not_disturb_the_particles(sockdir):
         exchanges[(maxit, nprocs)] = int(pout.split("(")[1].split(" kinematics")[0])
         dumps[(maxit, nprocs)] = canonical(read_dump(dump))
     assert exchanges[(2, 1)] == 1 + 2 * 200
-    assert exchanges[(4, 1)] >= 1 + 3 * 200 and exchanges[(4, 2)] == exchanges[(4, 1)]
+    # (the last bits of MBDyn's momentum of a 1e12 kg node depend on the summation order of the
+    # contact loads, so the iteration count on 2 ranks may differ by a few; the bed must not)
+    assert exchanges[(4, 1)] >= 1 + 3 * 200 and abs(exchanges[(4, 2)] - exchanges[(4, 1)]) <= 5
     ref = dumps[(2, 1)]
     moved = max(abs(a[2] - b[2]) for a, b in zip(ref[0], ref[200]))
     assert moved > 0.005

@@ -20,6 +20,10 @@ const double kStiffness = kMass * 4 * kPi * kPi;        // w = 2 pi: period 1 s
 const double kTorsion = kInertia * 9 * kPi * kPi;       // wt = 3 pi
 constexpr double kDuration = 2.0;                       // two periods
 const Vec3 kAnchor[2] = {{0.3, 0.1, -0.2}, {-0.4, 0.25, 0.05}};
+// Gravity in the MBDyn model: MBDyn's initial residual is then not zero, so tight coupling gets
+// its start-up exchange (spec T2); the springs' centre moves by g / w^2.
+const testpeer::V3 kGravity = {0.0, 0.0, -1.0};
+double centre(int i, int d) { return kAnchor[i][d] + kGravity[d] * kMass / kStiffness; }
 
 double spin_angle(const Matrix3& R) {
   // The peer's node orientation is Rz(theta) Rx(tilt): its first column is (cos, sin, 0).
@@ -95,7 +99,7 @@ Errors trapezoidal_error_bound(double dt) {
   double amplitude = 0, angle_amplitude = 0;
   for (int i = 0; i < 2; ++i) {
     for (int d = 0; d < 3; ++d)
-      amplitude = std::max(amplitude, std::hypot(initial[i].x[d] - kAnchor[i][d], initial[i].v[d] / w));
+      amplitude = std::max(amplitude, std::hypot(initial[i].x[d] - centre(i, d), initial[i].v[d] / w));
     angle_amplitude = std::max(angle_amplitude, std::hypot(initial[i].theta, initial[i].theta_dot / wt));
   }
   Errors e;
@@ -115,6 +119,7 @@ Errors run(Coupling coupling, double dt, Rotation rotation, bool reference_node)
   pair.peer.steps = static_cast<int>(std::lround(kDuration / dt));
   pair.peer.model.mass = kMass;
   pair.peer.model.inertia = kInertia;
+  pair.peer.model.gravity = kGravity;
   pair.peer.max_iterations = 30;
   PeerThread peer(pair.peer);
   PeerSession s = PeerSession::open(pair.session);
@@ -130,7 +135,7 @@ Errors run(Coupling coupling, double dt, Rotation rotation, bool reference_node)
     for (int i = 0; i < 2; ++i) {
       const auto& b0 = initial[i];
       for (int d = 0; d < 3; ++d) {
-        const double exact = kAnchor[i][d] + (b0.x[d] - kAnchor[i][d]) * std::cos(w * p.t) + b0.v[d] / w * std::sin(w * p.t);
+        const double exact = centre(i, d) + (b0.x[d] - centre(i, d)) * std::cos(w * p.t) + b0.v[d] / w * std::sin(w * p.t);
         e.position = std::max(e.position, std::fabs(p.bodies[i].x[d] - exact));
       }
       if (rotation != Rotation::None) {
@@ -145,8 +150,9 @@ Errors run(Coupling coupling, double dt, Rotation rotation, bool reference_node)
 }  // namespace
 
 TEST(MassSpringCosimulation, LooseFollowsClosedFormAndConvergesWithDt) {
-  // Largest amplitude 1.4 (position), 0.21 rad (angle), two periods. Loads come from the
-  // predicted pose (spec §5.1), so loose adds a lag error on top of the integrator's.
+  // Largest amplitude 1.4 (position), 0.21 rad (angle), two periods. Loads come from MBDyn's
+  // predicted pose (spec §5.1: v_{k-1}, x_{k-1} + dt v_{k-1}), so loose adds a first-order lag
+  // error on top of the integrator's (the real MBDyn does the same: tests/data/mbdyn).
   const double dts[3] = {1.0 / 100, 1.0 / 200, 1.0 / 400};
   Errors e[3];
   for (int i = 0; i < 3; ++i) {
@@ -154,12 +160,11 @@ TEST(MassSpringCosimulation, LooseFollowsClosedFormAndConvergesWithDt) {
     const Errors bound = trapezoidal_error_bound(dts[i]);
     std::printf("[ loose    ] dt=%.5f  max|x-x_exact|=%.3e (trapezoid %.3e)  max|theta-theta_exact|=%.3e (%.3e)  exchanges=%d\n",
                 dts[i], e[i].position, bound.position, e[i].angle, bound.angle, e[i].exchanges);
-    EXPECT_LT(e[i].position, 1.5 * bound.position);
-    EXPECT_LT(e[i].angle, 1.5 * bound.angle);
+    EXPECT_LT(e[i].position, 4 * bound.position);
+    EXPECT_LT(e[i].angle, 4 * bound.angle);
   }
   for (int i = 0; i < 2; ++i) {
-    // Halving dt must at least halve the error (issue 6, acceptance A); with the test peer's
-    // Taylor predictor the lag is second order, so the ratio is close to 4.
+    // Halving dt must at least halve the error (issue 6, acceptance A): first order.
     EXPECT_GT(e[i].position / e[i + 1].position, 1.8);
     EXPECT_GT(e[i].angle / e[i + 1].angle, 1.8);
   }

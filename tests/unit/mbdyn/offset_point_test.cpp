@@ -46,6 +46,7 @@ TEST(OffsetPoint, PointKinematicsAndMomentTransferMatchRigidBodyClosedForm) {
   pair.peer.model.mass = mass;
   pair.peer.model.offset = {{offset[0], offset[1], offset[2]}};
   pair.peer.model.tilt = {tilt};
+  pair.peer.model.derivatives_coefficient = 0;  // MBDyn's c F momentum offset at t0 (1e-8) off
   PeerThread peer(pair.peer);
   PeerSession s = PeerSession::open(pair.session);
 
@@ -55,17 +56,19 @@ TEST(OffsetPoint, PointKinematicsAndMomentTransferMatchRigidBodyClosedForm) {
     const Received r = s.receive();
     if (!r.is_kinematics()) break;
     const Kinematics& k = s.kinematics();
-    // Message k carries t_k (steps 0 and 1 both t0, spec §5); the Taylor prediction is exact
-    // for constant acceleration and constant spin.
-    const double t = r.message_index <= 1 ? 0.0 : r.message_index * dt;
+    // Message k >= 1 carries MBDyn's crank nicolson prediction for t_k from the converged state
+    // at tp = t_{k-1} (the trapezoidal rule is exact for a constant force and spin):
+    // x = x(tp) + dt v(tp), v = v(tp), theta = theta(tp) + dt theta_dot. Message 0 is t0.
+    const double t = r.message_index * dt;
+    const double tp = r.message_index == 0 ? 0.0 : t - dt, ahead = r.message_index == 0 ? 0.0 : dt;
     const double theta = b0.theta + b0.theta_dot * t;
     const Vec3 w{0, 0, b0.theta_dot};
     const Vec3 arm = times(node_rotation(theta, tilt), offset);
     const Vec3 w_arm = cross(w, arm), w_w_arm = cross(w, w_arm);
     for (int d = 0; d < 3; ++d) {
       const double accel = force[d] / mass;
-      const double x = b0.x[d] + b0.v[d] * t + 0.5 * accel * t * t + arm[d];
-      const double v = b0.v[d] + accel * t + w_arm[d];
+      const double x = b0.x[d] + b0.v[d] * tp + 0.5 * accel * tp * tp + ahead * (b0.v[d] + accel * tp) + arm[d];
+      const double v = b0.v[d] + accel * tp + w_arm[d];
       worst = std::max({worst, std::fabs(k.x[d] - x), std::fabs(k.v[d] - v), std::fabs(k.omega[d] - w[d])});
       if (r.message_index > 0) worst = std::max(worst, std::fabs(k.a[d] - (accel + w_w_arm[d])));
     }

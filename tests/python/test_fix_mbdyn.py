@@ -556,6 +556,8 @@ BAD = {
     "bad_substeps": ("substeps 1", "substeps 0", ["'substeps' expects a positive integer", "'0'"]),
     "no_socket": ("path ", "nopath ", ["unknown keyword 'nopath'"]),
     "bad_mbdyn_dt": ("substeps 1", "mbdyn_dt 0.0015", ["integer multiple of the LAMMPS timestep"]),
+    "bad_predictor": ("substeps 1", "substeps 1 predictor taylor", ["keyword 'predictor' expects mbdyn or correct", "'taylor'"]),
+    "startup_loose": ("substeps 1", "substeps 1 startup_exchange no", ["'startup_exchange no' is for coupling tight"]),
     "respa": ("run 10", "run_style respa 2 2\nrun 10", ["does not support run_style respa"]),
     "gravity_order": ("fix D all viscous", "fix G all gravity 9.81 vector 0 0 -1\nfix D all viscous",
                       ["gravity no (the default) needs fix G", "after fix mbdyn"]),

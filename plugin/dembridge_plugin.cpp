@@ -5,6 +5,7 @@
 #include "version_check.h"
 
 #include "lammps.h"
+#include "modify.h"
 #include "utils.h"
 
 #include <cstdlib>
@@ -28,6 +29,11 @@ extern "C" __attribute__((visibility("default"))) void lammpsplugin_init(void *l
 
   auto reg = reinterpret_cast<dembridge_regfunc>(regfunc);
   for (const auto &e : dembridge::style_registry()) {
+    if (e.builtin && host->modify->fix_map) {  // remember the built-in fix this style overrides
+      auto it = host->modify->fix_map->find(e.name);
+      if (it != host->modify->fix_map->end() && reinterpret_cast<void *>(it->second) != reinterpret_cast<void *>(e.v2))
+        *e.builtin = reinterpret_cast<dembridge::FixFactory>(it->second);
+    }
     dembridge_plugin_t p{};
     p.version = host->version;  // accepted: avoid the loader's "compiled for" notice
     p.style = e.kind;

@@ -15,6 +15,9 @@ struct StyleEntry {
   const char *info;
   PairFactory v1 = nullptr;  // pair, command
   FixFactory v2 = nullptr;   // fix, compute
+  // A fix that also serves the built-in style of the same name (other syntax): the plugin entry
+  // stores the built-in's creator here before overriding it, so the fix can delegate to it.
+  FixFactory *builtin = nullptr;
 };
 
 std::vector<StyleEntry> &style_registry();
@@ -24,9 +27,9 @@ struct RegisterStyle {
   {
     style_registry().push_back({kind, name, info, f, nullptr});
   }
-  RegisterStyle(const char *kind, const char *name, const char *info, FixFactory f)
+  RegisterStyle(const char *kind, const char *name, const char *info, FixFactory f, FixFactory *builtin = nullptr)
   {
-    style_registry().push_back({kind, name, info, nullptr, f});
+    style_registry().push_back({kind, name, info, nullptr, f, builtin});
   }
 };
 

@@ -19,4 +19,14 @@ inline double cohesion_force(CohesionModel model, const ContactGeometry &g, doub
   return -energy_density * A;
 }
 
+// Wall branch (spec liggghts-walls §2): the contact area is the sphere-plane cap.
+inline double cohesion_force_wall(CohesionModel model, const ContactGeometry &g, double ri, double energy_density)
+{
+  const double r = g.r;
+  double A;
+  if (model == CohesionModel::Sjkr) A = (ri * ri - r * r) * kPi;
+  else A = kPi * 2. * ri * (ri - r);
+  return -energy_density * A;
+}
+
 }  // namespace dembridge::gran

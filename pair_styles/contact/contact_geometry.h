@@ -20,7 +20,8 @@ struct ContactGeometry {
   double vn;         // vr . n (negative while approaching)
   double vtr[3];     // tangential relative surface velocity at the contact point
   double cri, crj;   // lever arms
-  double reff;       // R* = R_i R_j / (R_i + R_j)
+  double reff;       // R* = R_i R_j / (R_i + R_j); walls: R_i
+  double wr_wall[3]; // walls only: the "relative rotation" cr·ω_i/r (spec liggghts-walls §2)
 };
 
 // Returns false (and leaves g partially filled) when the spheres do not overlap (strict <).

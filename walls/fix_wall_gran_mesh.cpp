@@ -1,0 +1,99 @@
+// fix wall/gran ... mesh: the particle-triangle pass of spec liggghts-walls §4.5 on the meshes of
+// fix mesh/surface (candidates, closest points, wall velocity, stress sums come from that fix).
+#include "fix_wall_gran.h"
+
+#include "fix_mesh_surface.h"
+
+#include "atom.h"
+#include "error.h"
+
+#include <cmath>
+
+using namespace LAMMPS_NS;
+
+namespace dembridge {
+
+namespace {
+// Contact key: which triangle of which mesh of this fix (exact in a double).
+constexpr double kMeshStride = 4294967296.0;
+inline double contact_key(int mesh, int tri) { return mesh * kMeshStride + tri; }
+inline int key_mesh(double key) { return int(std::floor(key / kMeshStride)); }
+inline int key_tri(double key) { return int(key - key_mesh(key) * kMeshStride); }
+}  // namespace
+
+void FixWallGran::init_meshes()
+{
+  meshes_.clear();
+  for (const auto &mid : spec_.mesh_ids) {
+    FixMeshSurface *m = FixMeshSurface::find(lmp, mid, me_);
+    check_wall_type(m->wall_type(), ("type of mesh " + mid).c_str());
+    meshes_.push_back(m);
+  }
+}
+
+void FixWallGran::mesh_pass(bool update_history)
+{
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  double **x = atom->x;
+  const double *radius = atom->radius;
+  const int cap = history_.capacity();
+  const int nv = history_.nvalues();
+  const bool face_only = !spec_.model.contact.legacy_2x_expressions;  // 2.x: coplanar rules for every new contact (§11)
+  kept_.assign(std::size_t(nlocal) * cap, 0);
+  double fpw[3], vw[3], scratch[6] = {0, 0, 0, 0, 0, 0};
+
+  for (int i = 0; i < nlocal; ++i) {
+    if (!(mask[i] & groupbit)) continue;
+    unsigned char *kept = &kept_[std::size_t(i) * cap];
+    for (int m = 0; m < int(meshes_.size()); ++m) {
+      FixMeshSurface *ms = meshes_[m];
+      const auto &mesh = ms->mesh();
+      const int nc = ms->ncandidates(i);
+      const int *cand = ms->candidates(i);
+      for (int c = 0; c < nc; ++c) {
+        const int t = cand[c];
+        const mesh::TriangleContact tc = ms->closest(t, x[i], radius[i]);
+        if (!(tc.dist_minus_r <= 0.0)) continue;
+        const double key = contact_key(m, t);
+        int slot = history_.find(i, key);
+        if (slot < 0) {
+          const bool face = !face_only || tc.kind == mesh::ContactKind::Face;
+          if (face) {  // coplanar de-duplication: a flat neighbour already acts in this pass
+            bool skip = false;
+            for (int s = 0; s < history_.count(i) && !skip; ++s) {
+              const double k2 = history_.key(i, s);
+              skip = kept[s] && key_mesh(k2) == m && key_tri(k2) != t && mesh.coplanar_node_neighbors(key_tri(k2), t);
+            }
+            if (skip) continue;
+          }
+          slot = history_.add(i, key);
+          if (slot < 0)
+            error->one(FLERR, me_ + ": atom " + std::to_string(atom->tag[i]) + " touches more than " + std::to_string(cap) +
+                                  " mesh triangles at once (mesh contact history overflow)");
+          if (face && nv > 0)  // carry the shear spring across a flat shared edge (last partner wins)
+            for (int s = 0; s < slot; ++s) {
+              const double k2 = history_.key(i, s);
+              if (key_mesh(k2) == m && key_tri(k2) != t && mesh.coplanar_node_neighbors(key_tri(k2), t))
+                std::copy(history_.values(i, s), history_.values(i, s) + nv, history_.values(i, slot));
+            }
+        }
+        kept[slot] = 1;
+        ms->wall_velocity(t, tc.bary, vw);
+        touch(i, gran::WallTouch{tc.dist_minus_r, tc.delta.data(), vw}, ms->wall_type(), nv ? history_.values(i, slot) : scratch,
+              update_history, m, t, fpw);
+        if (ms->stress_on() && (mask[i] & ms->groupbit)) {
+          const double frc[3] = {-fpw[0], -fpw[1], -fpw[2]};
+          const double cp[3] = {x[i][0] + tc.delta[0], x[i][1] + tc.delta[1], x[i][2] + tc.delta[2]};
+          ms->add_wall_force(t, frc, cp);
+        }
+      }
+    }
+  }
+  // Contacts not seen in this pass are over: their history goes at once (spec §4.5).
+  for (int i = 0; i < nlocal; ++i)
+    for (int s = history_.count(i) - 1; s >= 0; --s)
+      if (!kept_[std::size_t(i) * cap + s]) history_.remove(i, s);
+}
+
+}  // namespace dembridge

@@ -129,7 +129,8 @@ void parse_wall_keywords(const std::vector<std::string> &a, std::size_t k, const
     } else if (w == "store_force") {
       if (k + 1 >= a.size() || (a[k + 1] != "yes" && a[k + 1] != "no"))
         throw SyntaxError(prefix + ": 'store_force' expects yes or no");
-      s.store_force = a[k + 1] == "yes";
+      if (a[k + 1] == "yes")
+        throw SyntaxError(prefix + ": 'store_force yes' is not supported by dembridge (use compute wall/gran/local for per-contact forces)");
       k += 2;
     } else if (legacy && is_2x_model_keyword(w)) {
       if (k + 1 >= a.size()) throw SyntaxError(prefix + ": keyword '" + w + "' needs a value");
@@ -156,7 +157,9 @@ bool is_liggghts_wall_style(const std::string &style) { return style == "wall/gr
 
 bool is_lammps_wall_syntax(const std::string &style, const std::vector<std::string> &args)
 {
-  return style == "wall/gran" && !args.empty() && args[0] != "model";
+  if (style != "wall/gran" || args.empty()) return false;
+  const std::string &a = args[0];
+  return a == "hooke" || a == "hooke/history" || a == "hertz/history" || a == "granular";
 }
 
 WallSpec parse_wall_gran(const std::string &style, const std::vector<std::string> &args, const std::string &prefix)

@@ -18,7 +18,6 @@ struct WallSpec {
   std::vector<std::string> mesh_ids;    // when is_mesh, in `meshes` order
   int shear_dim = -1;                   // `shear x|y|z v` (primitive only)
   double shear_v = 0.0;
-  bool store_force = false;
 };
 
 // style: "wall/gran" or a 2.x name "wall/gran/hooke/history" ...; args: the words after it.

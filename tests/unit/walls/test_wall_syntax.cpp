@@ -58,11 +58,10 @@ TEST(WallSyntax, CylinderAndShear)
 
 TEST(WallSyntax, Mesh)
 {
-  const auto s = parse("wall/gran", "model hertz mesh n_meshes 2 meshes a b store_force yes");
+  const auto s = parse("wall/gran", "model hertz mesh n_meshes 2 meshes a b store_force no");
   EXPECT_TRUE(s.is_mesh);
   ASSERT_EQ(s.mesh_ids.size(), 2u);
   EXPECT_EQ(s.mesh_ids[1], "b");
-  EXPECT_TRUE(s.store_force);
   EXPECT_EQ(s.model.contact.tangential, gran::TangentialModel::None);  // no 'tangential': frictionless, as 3.8
 }
 
@@ -107,5 +106,6 @@ TEST(WallSyntax, BadInputNamesTheArgument)
   EXPECT_NE(error_of("wall/gran/hooke/history", "primitive type 1 zplane 0 rolling_friction foo").find("rolling_friction expects"),
             std::string::npos);
   EXPECT_NE(error_of("wall/gran", "model hertz primitive type 1 zplane 0 bogus 1").find("'bogus'"), std::string::npos);
+  EXPECT_NE(error_of("wall/gran", "model hertz primitive type 1 zplane 0 store_force yes").find("not supported"), std::string::npos);
   EXPECT_NE(error_of("wall/gran", "primitive type 1 zplane 0").find("expected 'model"), std::string::npos);
 }

@@ -41,7 +41,6 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   ~FixMeshSurface() override;
   int setmask() override;
   void init() override;
-  void setup(int vflag) override;
   void setup_pre_neighbor() override;
   void setup_post_neighbor() override;
   void setup_pre_force(int vflag) override;
@@ -59,7 +58,7 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   const mesh::TriangleMesh &mesh() const { return *mesh_; }
   int wall_type() const { return wall_type_; }
   bool moving() const { return !movers_.empty(); }
-  int ncandidates(int i) const { return neighbors_.count(i); }
+  int ncandidates(int i) const { return i < neighbors_.nparticles() ? neighbors_.count(i) : 0; }
   const int *candidates(int i) const { return neighbors_.begin(i); }
   mesh::TriangleContact closest(int tri, const double *x, double radius) const
   {
@@ -71,8 +70,9 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
 
   // ---- API for fix move/mesh and the mesh dumps
   mesh::TriangleMesh &mesh_for_motion() { return *mesh_; }
-  int register_mover(FixMoveMesh *mover);  // returns its rank among the movers (0 = first)
-  void unregister_mover(FixMoveMesh *mover);
+  // Position of a fix move/mesh among the movers of this mesh in fix order (0 = first, which
+  // zeroes the node velocities each step), -1 if not one of them. Valid after init().
+  int mover_rank(const FixMoveMesh *mover) const;
   // Per-triangle force on the mesh summed over ranks (collective; zeros without stress).
   std::vector<double> triangle_forces_all() const;
   const mesh::Vec3 &reference_point() const { return mesh_->attached_point(ref_point_); }
@@ -80,7 +80,7 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
  private:
   std::unique_ptr<mesh::TriangleMesh> mesh_;
   mesh::MeshNeighbors neighbors_;
-  std::vector<FixMoveMesh *> movers_;
+  std::vector<FixMoveMesh *> movers_;  // in fix order, found in init()
   int wall_type_ = 0;
   bool stress_ = false;
   int ref_point_ = -1;
@@ -89,10 +89,16 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   std::vector<double> tri_force_;          // per triangle, this rank
   std::vector<mesh::TriangleNodes> nodes_at_build_;
   bool rebuilt_this_step_ = false;
+  bool conveyor_ = false;       // surface_vel / surface_ang_vel
+  bool totals_stale_ = false;   // totals changed since the last MPI sum (same on every rank)
 
   void build_candidates();
+  void zero_totals();
   void sum_totals();
+  void remember_nodes();
   void check_domain() const;
+  void set_surface_velocity(bool linear, const mesh::Vec3 &v, const mesh::Vec3 &origin, const mesh::Vec3 &axis,
+                            double omega);
 };
 
 }  // namespace dembridge

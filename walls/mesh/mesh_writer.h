@@ -1,5 +1,6 @@
-// Mesh output for ParaView: legacy VTK polydata (nodes, triangles, per-triangle normal, node
-// velocity magnitude and, when given, the force on each triangle) and ASCII STL.
+// Mesh output for ParaView: legacy VTK polydata (nodes, triangles; per triangle the normal, the
+// mesh index and, when given, the force on it; per node the velocity) and ASCII STL. Several
+// meshes go into one file.
 #pragma once
 
 #include "triangle_mesh.h"
@@ -9,8 +10,13 @@
 
 namespace dembridge::mesh {
 
-// tri_force: 3 values per triangle, or empty.
-void write_vtk(std::ostream &os, const TriangleMesh &m, const std::vector<double> &tri_force, const char *title);
-void write_stl(std::ostream &os, const TriangleMesh &m, const char *solid_name);
+struct MeshFrame {
+  const TriangleMesh *mesh;
+  std::vector<double> tri_force;  // 3 values per triangle, or empty
+  const char *name;
+};
+
+void write_vtk(std::ostream &os, const std::vector<MeshFrame> &meshes, const char *title);
+void write_stl(std::ostream &os, const std::vector<MeshFrame> &meshes);
 
 }  // namespace dembridge::mesh

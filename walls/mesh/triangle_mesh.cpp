@@ -267,7 +267,10 @@ void TriangleMesh::refresh_geometry()
 
 int TriangleMesh::attach_point(const Vec3 &p)
 {
-  attached_.push_back(p);
+  // after restore_state(), points attached later (movers created after the mesh) take their
+  // restored position
+  const std::size_t i = attached_.size();
+  attached_.push_back(i < restored_attached_.size() ? restored_attached_[i] : p);
   return static_cast<int>(attached_.size()) - 1;
 }
 
@@ -326,8 +329,9 @@ void TriangleMesh::restore_state(const std::vector<double> &b)
       area_[t] = b.at(i++);
       obtuse_[t] = std::int8_t(b.at(i++));
     }
-    attached_.resize(nattached);
-    for (auto &p : attached_) get(b, i, p);
+    restored_attached_.resize(nattached);
+    for (auto &p : restored_attached_) get(b, i, p);
+    for (std::size_t k = 0; k < attached_.size() && k < nattached; ++k) attached_[k] = restored_attached_[k];
   } catch (const std::out_of_range &) {
     throw MeshError("the mesh state in the restart file is truncated");
   }

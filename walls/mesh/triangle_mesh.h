@@ -14,7 +14,7 @@
 //    mesh_neighbors.h, the movers in mesh_movers.h. Nothing here depends on LAMMPS.
 #pragma once
 
-#include "vec3.h"
+#include "mesh_vec3.h"
 
 #include <cstdint>
 #include <stdexcept>
@@ -86,7 +86,8 @@ class TriangleMesh {
   const Vec3 &attached_point(int i) const { return attached_[i]; }
 
   // Restart: the full motion state (nodes, the incrementally updated vectors, velocities,
-  // attached points) as doubles; restore() requires a mesh built from the same file.
+  // attached points) as doubles; restore_state() requires a mesh built from the same file. Points
+  // attached after restore_state() (in the same order as before) get their saved positions.
   std::vector<double> save_state() const;
   void restore_state(const std::vector<double> &buf);
 
@@ -105,6 +106,7 @@ class TriangleMesh {
   std::vector<std::vector<int>> neigh_;
   std::vector<std::array<Vec3, 3>> vel_;
   std::vector<Vec3> attached_;
+  std::vector<Vec3> restored_attached_;  // from restore_state(), for points attached afterwards
 
   void validate();
   void compute_geometry(int t);

@@ -1,0 +1,368 @@
+// fix mesh/surface, fix mesh/surface/stress (spec liggghts-walls §4, §6, §7.3, §8).
+#include "fix_mesh_surface.h"
+
+#include "fix_move_mesh.h"
+#include "mesh_args.h"
+#include "mesh_placement.h"
+#include "stl_reader.h"
+#include "style_registry.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "modify.h"
+#include "neighbor.h"
+#include "update.h"
+
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using namespace LAMMPS_NS::FixConst;
+
+namespace dembridge {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+FixMeshSurface::FixMeshSurface(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
+{
+  const std::string cmd = std::string("fix ") + style + " (id " + id + ")";
+  MeshArgs a(lmp, cmd, narg, arg, 3);
+  stress_ = std::strcmp(style, "mesh/surface/stress") == 0;
+
+  // fixed order as in LIGGGHTS: file F type T, then optional keywords in any order
+  a.expect_keyword("file", "file FILENAME type T");
+  const std::string file = a.word("file name");
+  a.expect_keyword("type", "type T after the file name");
+  wall_type_ = a.integer("type");
+  if (wall_type_ < 1 || wall_type_ > atom->ntypes)
+    error->all(FLERR, cmd + ": type " + std::to_string(wall_type_) + " is outside 1.." + std::to_string(atom->ntypes) +
+                          " (the atom types of create_box; the wall material needs a type)");
+
+  mesh::MeshOptions opt;
+  std::vector<mesh::PlacementOp> ops;
+  mesh::Vec3 ref{0.0, 0.0, 0.0};
+  bool have_surface_vel = false, have_surface_ang = false;
+  mesh::Vec3 surface_vel{}, ang_origin{}, ang_axis{};
+  double ang_omega = 0.0;
+  while (!a.done()) {
+    const std::string key = a.word("keyword");
+    if (key == "precision") {
+      opt.precision = a.positive("precision");
+    } else if (key == "heal") {
+      const std::string v = a.word("heal");
+      if (v != "auto_remove_duplicates" && v != "no")
+        a.fail("heal", "expected 'auto_remove_duplicates' or 'no', got '" + v + "'");
+      opt.heal_remove_duplicates = v == "auto_remove_duplicates";
+    } else if (key == "verbose") {
+      a.yes_no("verbose");
+    } else if (key == "scale") {
+      ops.push_back({mesh::PlacementOp::Scale, {}, a.positive("scale")});
+    } else if (key == "move") {
+      ops.push_back({mesh::PlacementOp::Move, a.vec3("move"), 0.0});
+    } else if (key == "rotate") {
+      a.expect_keyword("axis", "rotate axis ax ay az angle deg");
+      const mesh::Vec3 axis = a.nonzero_vec3("rotate axis");
+      a.expect_keyword("angle", "rotate axis ax ay az angle deg");
+      ops.push_back({mesh::PlacementOp::Rotate, axis, a.number("rotate angle")});
+    } else if (key == "curvature") {
+      const double deg = a.number("curvature");
+      if (!(deg > 0.0 && deg < 60.0)) a.fail("curvature", "expected an angle with 0 < curvature < 60 degrees");
+      opt.curvature = std::cos(deg * kPi / 180.0);
+    } else if (key == "curvature_tolerant") {
+      opt.curvature_tolerant = a.yes_no("curvature_tolerant");
+    } else if (key == "surface_vel") {
+      surface_vel = a.vec3("surface_vel");
+      have_surface_vel = true;
+    } else if (key == "surface_ang_vel") {
+      a.expect_keyword("origin", "surface_ang_vel origin ox oy oz axis ax ay az omega w");
+      ang_origin = a.vec3("surface_ang_vel origin");
+      a.expect_keyword("axis", "surface_ang_vel origin ox oy oz axis ax ay az omega w");
+      ang_axis = a.nonzero_vec3("surface_ang_vel axis");
+      a.expect_keyword("omega", "surface_ang_vel origin ox oy oz axis ax ay az omega w");
+      ang_omega = a.number("surface_ang_vel omega");
+      have_surface_ang = true;
+    } else if (stress_ && key == "reference_point") {
+      ref = a.vec3("reference_point");
+    } else if (stress_ && key == "stress") {
+      stress_ = a.on_off("stress");
+    } else if (stress_ && key == "wear") {
+      const std::string v = a.word("wear");
+      if (v != "off") a.fail("wear", "only 'wear off' is supported (Finnie wear is not implemented), got '" + v + "'");
+    } else if (key == "reference_point" || key == "stress" || key == "wear") {
+      a.fail(key, "is a keyword of fix mesh/surface/stress, not of fix " + std::string(style));
+    } else {
+      a.fail(key, "unknown keyword (expected precision, heal, verbose, scale, move, rotate, curvature, "
+                  "curvature_tolerant, surface_vel, surface_ang_vel" +
+                      std::string(stress_ ? ", reference_point, stress, wear" : "") + ")");
+    }
+  }
+  if (have_surface_vel && have_surface_ang) a.fail("surface_ang_vel", "cannot be combined with surface_vel");
+
+  try {
+    std::vector<mesh::TriangleNodes> tris = mesh::read_stl(file);
+    mesh::apply_placement(tris, ops);
+    mesh_ = std::make_unique<mesh::TriangleMesh>(std::move(tris), opt);
+  } catch (const mesh::MeshError &e) {
+    error->all(FLERR, cmd + " file '" + file + "': " + e.what());
+  }
+  ref_point_ = mesh_->attach_point(ref);
+  if (have_surface_vel || have_surface_ang) set_surface_velocity(have_surface_vel, surface_vel, ang_origin, ang_axis, ang_omega);
+  conveyor_ = have_surface_vel || have_surface_ang;
+  tri_force_.assign(3 * std::size_t(mesh_->size()), 0.0);
+
+  restart_global = 1;
+  force_reneighbor = 1;
+  next_reneighbor = -1;
+  if (std::strcmp(style, "mesh/surface/stress") == 0) {
+    vector_flag = 1;
+    size_vector = 9;
+    global_freq = 1;
+    extvector = 1;
+  }
+  if (comm->me == 0)
+    utils::logmesg(lmp, "{}: {} triangles from '{}'{}, {:.1f} kB per rank\n", cmd, mesh_->size(), file,
+                   mesh_->removed_duplicates() ? " (" + std::to_string(mesh_->removed_duplicates()) + " duplicates removed)" : "",
+                   mesh_->memory_bytes() / 1024.0);
+}
+
+FixMeshSurface::~FixMeshSurface() = default;
+
+int FixMeshSurface::setmask()
+{
+  int mask = PRE_NEIGHBOR | POST_NEIGHBOR | PRE_FORCE;
+  if (vector_flag) mask |= FINAL_INTEGRATE;
+  return mask;
+}
+
+// surface_vel / surface_ang_vel: a conveyor; node velocity = the in-plane part of the given
+// velocity, rescaled to the full magnitude (spec §7.1).
+void FixMeshSurface::set_surface_velocity(bool linear, const mesh::Vec3 &v, const mesh::Vec3 &origin,
+                                          const mesh::Vec3 &axis, double omega)
+{
+  mesh::TriangleMesh &m = *mesh_;
+  m.zero_velocity();
+  const mesh::Vec3 w = mesh::scale(mesh::div_by(axis, mesh::norm(axis)), omega);
+  for (int t = 0; t < m.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const mesh::Vec3 full = linear ? v : mesh::cross(w, mesh::sub(m.node(t, k), origin));
+      const mesh::Vec3 &n = m.normal(t);
+      const mesh::Vec3 inplane = mesh::sub(full, mesh::scale(n, mesh::dot(full, n)));
+      const double li = mesh::norm(inplane);
+      if (li > 0.0) m.add_node_velocity(t, k, mesh::scale(inplane, mesh::norm(full) / li));
+    }
+}
+
+void FixMeshSurface::init()
+{
+  if (!atom->radius_flag) error->all(FLERR, std::string("fix ") + style + " (id " + id + ") requires atom attribute radius (atom_style sphere)");
+  movers_.clear();
+  for (Fix *f : modify->get_fix_list())
+    if (auto *mv = dynamic_cast<FixMoveMesh *>(f); mv && mv->mesh_id() == id) movers_.push_back(mv);
+  if (conveyor_ && !movers_.empty())
+    error->all(FLERR, std::string("fix ") + style + " (id " + id + "): surface_vel/surface_ang_vel cannot be combined with fix move/mesh");
+  check_domain();
+}
+
+int FixMeshSurface::mover_rank(const FixMoveMesh *mover) const
+{
+  for (std::size_t i = 0; i < movers_.size(); ++i)
+    if (movers_[i] == mover) return int(i);
+  return -1;
+}
+
+// LIGGGHTS stops when every element is outside a non-periodic box; partly outside only warns.
+void FixMeshSurface::check_domain() const
+{
+  int outside = 0;
+  bool crosses_periodic = false;
+  for (int t = 0; t < mesh_->size(); ++t) {
+    bool out = false;
+    for (int d = 0; d < 3; ++d) {
+      double lo = mesh_->node(t, 0)[d], hi = lo;
+      for (int k = 1; k < 3; ++k) {
+        lo = std::min(lo, mesh_->node(t, k)[d]);
+        hi = std::max(hi, mesh_->node(t, k)[d]);
+      }
+      if (domain->periodicity[d]) {
+        if (lo < domain->boxlo[d] || hi > domain->boxhi[d]) crosses_periodic = true;
+      } else if (hi < domain->boxlo[d] || lo > domain->boxhi[d]) {
+        out = true;
+      }
+    }
+    outside += out;
+  }
+  const std::string who = std::string("fix ") + style + " (id " + id + ")";
+  if (outside == mesh_->size())
+    error->all(FLERR, who + ": all " + std::to_string(outside) + " mesh elements are outside the simulation box");
+  if (comm->me == 0 && outside > 0)
+    error->warning(FLERR, who + ": " + std::to_string(outside) + " mesh elements are outside the simulation box");
+  if (comm->me == 0 && crosses_periodic)
+    error->warning(FLERR, who + ": the mesh crosses a periodic boundary; meshes are not wrapped, so particles "
+                              "interact only with the mesh as placed");
+}
+
+void FixMeshSurface::remember_nodes()
+{
+  nodes_at_build_.resize(mesh_->size());
+  for (int t = 0; t < mesh_->size(); ++t) nodes_at_build_[t] = mesh_->nodes(t);
+}
+
+void FixMeshSurface::setup_pre_neighbor() { remember_nodes(); }
+
+// §7.3: a moving mesh recomputes its vectors from the nodes at every re-neighbouring step.
+void FixMeshSurface::pre_neighbor()
+{
+  if (moving()) mesh_->refresh_geometry();
+  remember_nodes();
+  rebuilt_this_step_ = true;
+}
+
+void FixMeshSurface::setup_post_neighbor() { build_candidates(); }
+void FixMeshSurface::post_neighbor() { build_candidates(); }
+
+void FixMeshSurface::build_candidates()
+{
+  const double s = moving() ? neighbor->skin : 0.5 * neighbor->skin;
+  neighbors_.build(*mesh_, atom->nlocal, atom->x, atom->radius, nullptr, s);
+}
+
+void FixMeshSurface::setup_pre_force(int)
+{
+  if (moving()) mesh_->zero_velocity();  // step 0: the mesh has not moved (spec §7.2)
+  zero_totals();
+  rebuilt_this_step_ = false;
+}
+
+void FixMeshSurface::zero_totals()
+{
+  if (!vector_flag) return;
+  for (double &v : total_) v = 0.0;
+  std::fill(tri_force_.begin(), tri_force_.end(), 0.0);
+  totals_stale_ = true;
+}
+
+void FixMeshSurface::pre_force(int)
+{
+  zero_totals();
+  // a node that moved more than skin/2 since the last build forces a rebuild on the next step (§6)
+  if (moving() && !rebuilt_this_step_) {
+    const double trigger = 0.25 * neighbor->skin * neighbor->skin;
+    bool far = false;
+    for (int t = 0; t < mesh_->size() && !far; ++t)
+      for (int k = 0; k < 3; ++k) {
+        const mesh::Vec3 d = mesh::sub(mesh_->node(t, k), nodes_at_build_[t][k]);
+        if (mesh::dot(d, d) > trigger) {
+          far = true;
+          break;
+        }
+      }
+    if (far) next_reneighbor = update->ntimestep + 1;
+  }
+  rebuilt_this_step_ = false;
+}
+
+void FixMeshSurface::final_integrate() { sum_totals(); }
+
+void FixMeshSurface::sum_totals()
+{
+  if (!vector_flag || !totals_stale_) return;
+  MPI_Allreduce(total_, total_all_, 6, MPI_DOUBLE, MPI_SUM, world);
+  totals_stale_ = false;
+}
+
+double FixMeshSurface::compute_vector(int i)
+{
+  sum_totals();  // after setup the sum has not been taken yet (the flag is the same on every rank)
+  if (i < 6) return total_all_[i];
+  return reference_point()[i - 6];
+}
+
+void FixMeshSurface::wall_velocity(int tri, const mesh::Vec3 &bary, double *v) const
+{
+  const mesh::Vec3 w = mesh_->velocity_at(tri, bary);
+  v[0] = w[0];
+  v[1] = w[1];
+  v[2] = w[2];
+}
+
+void FixMeshSurface::add_wall_force(int tri, const double *f, const double *cp)
+{
+  if (!stress_) return;
+  const mesh::Vec3 &p = reference_point();
+  const mesh::Vec3 arm{cp[0] - p[0], cp[1] - p[1], cp[2] - p[2]};
+  const mesh::Vec3 frc{f[0], f[1], f[2]};
+  const mesh::Vec3 tq = mesh::cross(arm, frc);
+  for (int k = 0; k < 3; ++k) {
+    total_[k] += frc[k];
+    total_[3 + k] += tq[k];
+    tri_force_[3 * std::size_t(tri) + k] += frc[k];
+  }
+}
+
+std::vector<double> FixMeshSurface::triangle_forces_all() const
+{
+  std::vector<double> all(tri_force_.size(), 0.0);
+  if (vector_flag) MPI_Allreduce(tri_force_.data(), all.data(), int(all.size()), MPI_DOUBLE, MPI_SUM, world);
+  return all;
+}
+
+FixMeshSurface *FixMeshSurface::find(LAMMPS *lmp, const std::string &mesh_id, const std::string &caller)
+{
+  Fix *f = lmp->modify->get_fix_by_id(mesh_id);
+  if (!f)
+    lmp->error->all(FLERR, caller + ": mesh ID '" + mesh_id + "' does not exist (expected the ID of a fix mesh/surface)");
+  auto *m = dynamic_cast<FixMeshSurface *>(f);
+  if (!m)
+    lmp->error->all(FLERR, caller + ": fix '" + mesh_id + "' is a fix " + f->style +
+                               ", not a mesh (expected the ID of a fix mesh/surface)");
+  return m;
+}
+
+// Restart: the mesh motion state (nodes and the incrementally updated vectors) so a restarted
+// moving mesh continues bit for bit.
+void FixMeshSurface::write_restart(FILE *fp)
+{
+  if (comm->me != 0) return;
+  const std::vector<double> state = mesh_->save_state();
+  const int n = int(state.size());
+  const int size = int(sizeof(int) + state.size() * sizeof(double));
+  fwrite(&size, sizeof(int), 1, fp);
+  fwrite(&n, sizeof(int), 1, fp);
+  fwrite(state.data(), sizeof(double), state.size(), fp);
+}
+
+void FixMeshSurface::restart(char *buf)
+{
+  int n = 0;
+  std::memcpy(&n, buf, sizeof(int));
+  std::vector<double> state(std::size_t(std::max(n, 0)));
+  std::memcpy(state.data(), buf + sizeof(int), state.size() * sizeof(double));
+  try {
+    mesh_->restore_state(state);
+  } catch (const mesh::MeshError &e) {
+    error->all(FLERR, std::string("fix ") + style + " (id " + id + ") restart: " + e.what() +
+                          " (define the mesh with the same file and options as before write_restart)");
+  }
+}
+
+double FixMeshSurface::memory_usage()
+{
+  return mesh_->memory_bytes() + neighbors_.memory_bytes() + double(tri_force_.capacity()) * sizeof(double) +
+         double(nodes_at_build_.capacity()) * sizeof(mesh::TriangleNodes);
+}
+
+static void *create_fix_mesh_surface(void *lmp, int narg, char **arg)
+{
+  return new FixMeshSurface(static_cast<LAMMPS *>(lmp), narg, arg);
+}
+static RegisterStyle reg_fix_mesh_surface("fix", "mesh/surface", "LIGGGHTS-compatible STL mesh wall",
+                                          create_fix_mesh_surface);
+static RegisterStyle reg_fix_mesh_surface_stress("fix", "mesh/surface/stress",
+                                                 "LIGGGHTS-compatible STL mesh wall with force/torque output",
+                                                 create_fix_mesh_surface);
+
+}  // namespace dembridge

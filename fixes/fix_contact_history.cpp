@@ -3,41 +3,61 @@
 #include "style_registry.h"
 
 #include "atom.h"
+#include "comm.h"
 #include "error.h"
 #include "neigh_list.h"
 
 #include <algorithm>
 #include <cstring>
+#include <unordered_map>
 
 using namespace LAMMPS_NS;
 using namespace LAMMPS_NS::FixConst;
 
 namespace dembridge {
 
+// NVALUES 0 is a placeholder: the pair style reserves its place in the fix order when pair_style
+// is read (fixes run in definition order, and the history must be converted before a later
+// fix pour inserts atoms) and replaces it, in place, by the real fix at init.
 FixContactHistory::FixContactHistory(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
 {
   if (narg != 4) error->all(FLERR, "fix dembridge/contact/history is internal to the dembridge pair styles");
   nv_ = utils::inumeric(FLERR, arg[3], false, lmp);
-  if (nv_ < 1) error->all(FLERR, "fix dembridge/contact/history: number of values must be >= 1");
+  if (nv_ < 0) error->all(FLERR, "fix dembridge/contact/history: number of values must be >= 0");
+  if (nv_ == 0) return;
   restart_peratom = 1;
   create_attribute = 1;
   maxexchange_dynamic = 1;
-  maxexchange = 1 + cap_ * (1 + nv_);
+  set_maxexchange(0);
+  vector_flag = 1;
+  size_vector = 4;
+  global_freq = 1;
+  extvector = 0;
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
   atom->add_callback(Atom::RESTART);
-  for (int i = 0; i < atom->nlocal; i++) npartner_[i] = 0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    set_arrays(i);
+    own_tag_[i] = atom->tag ? atom->tag[i] : 0;
+  }
 }
 
 FixContactHistory::~FixContactHistory()
 {
+  if (nv_ == 0) return;
   atom->delete_callback(id, Atom::GROW);
   atom->delete_callback(id, Atom::RESTART);
 }
 
 int FixContactHistory::setmask()
 {
+  if (nv_ == 0) return 0;
   return PRE_EXCHANGE | POST_NEIGHBOR | MIN_PRE_EXCHANGE | MIN_POST_NEIGHBOR;
+}
+
+void FixContactHistory::set_maxexchange(int most_partners)
+{
+  maxexchange = 1 + most_partners * (1 + nv_);
 }
 
 // Atoms are about to move between ranks or be re-indexed: the per-atom lists become the truth.
@@ -47,11 +67,20 @@ void FixContactHistory::pre_exchange()
   list_valid_ = false;
 }
 
+// Start of a run or minimisation: atoms may have been deleted, created or renumbered since.
+void FixContactHistory::setup_pre_exchange()
+{
+  sync_atoms();
+  follow_renumbered_tags();
+  list_valid_ = false;
+}
+
 void FixContactHistory::post_neighbor()
 {
   list_from_atoms();
   list_valid_ = true;
   atoms_stale_ = false;
+  compact_pool();
 }
 
 // Keep per-atom lists current between runs (restart files, atom changes before the next run).
@@ -62,95 +91,192 @@ void FixContactHistory::post_run()
   sync_atoms();
 }
 
-void FixContactHistory::add_partner(int i, tagint tag, const double *v, double sign)
-{
-  if (npartner_[i] == cap_) grow_capacity(cap_ * 2);
-  const std::size_t k = std::size_t(i) * cap_ + npartner_[i];
-  partner_[k] = tag;
-  for (int m = 0; m < nv_; m++) pvalues_[k * nv_ + m] = sign * v[m];
-  npartner_[i]++;
-}
-
+// List order -> per-atom lists. The list's atoms are named by the tags it was built with, and
+// found again by tag if a fix before this one inserted or deleted atoms in this pre_exchange.
 void FixContactHistory::atoms_from_list()
 {
   const int nlocal = atom->nlocal;
   const tagint *tag = atom->tag;
-  std::fill(npartner_.begin(), npartner_.begin() + nlocal, 0);
-  const int *ilist = list_->ilist, *numneigh = list_->numneigh;
-  for (int ii = 0; ii < list_->inum; ii++) {
-    const int i = ilist[ii];
-    const int *jlist = list_->firstneigh[i];
-    for (int jj = 0; jj < numneigh[i]; jj++) {
-      if (!touched(i, jj)) continue;
-      const int j = jlist[jj] & NEIGHMASK;
-      const double *v = slot(i, jj);
-      add_partner(i, tag[j], v, 1.0);
-      if (j < nlocal) add_partner(j, tag[i], v, -1.0);  // the partner sees the mirrored spring
+  const int nold = list_nlocal_;
+
+  std::vector<int> now(nold);
+  const bool unchanged = nlocal == nold && std::equal(tag, tag + nlocal, list_tag_.begin());
+  if (unchanged) {
+    for (int i = 0; i < nold; i++) now[i] = i;
+  } else {
+    std::unordered_map<tagint, int> where(2 * std::size_t(nlocal));
+    for (int i = 0; i < nlocal; i++) where.emplace(tag[i], i);
+    for (int i = 0; i < nold; i++) {
+      auto it = where.find(list_tag_[i]);
+      now[i] = it == where.end() ? -1 : it->second;  // -1: deleted
     }
   }
+
+  // Two passes over the same traversal, count then fill (keeps each atom's partner order): each
+  // touched slot (i, jj) gives i its spring and the owned partner j the mirrored one.
+  const int *ilist = list_->ilist, *numneigh = list_->numneigh;
+  auto for_each_contact = [&](auto &&visit) {
+    for (int ii = 0; ii < list_->inum; ii++) {
+      const int i = ilist[ii];
+      const int *jlist = list_->firstneigh[i];
+      for (int jj = 0; jj < numneigh[i]; jj++) {
+        if (!touched(i, jj)) continue;
+        const int j = jlist[jj] & NEIGHMASK;
+        if (now[i] >= 0) visit(now[i], list_tag_[j], slot(i, jj), 1.0);
+        if (j < nold && now[j] >= 0) visit(now[j], list_tag_[i], slot(i, jj), -1.0);
+      }
+    }
+  };
+  std::vector<int> count(nlocal, 0);
+  for_each_contact([&](int a, tagint, const double *, double) { count[a]++; });
+  std::size_t total = 0;
+  int most = 0;
+  for (int a = 0; a < nlocal; a++) {
+    offset_[a] = total;
+    npartner_[a] = 0;
+    own_tag_[a] = tag[a];
+    total += count[a];
+    most = std::max(most, count[a]);
+  }
+  std::vector<tagint> ptag(total);
+  std::vector<double> pval(total * nv_);
+  for_each_contact([&](int a, tagint partner, const double *v, double sign) {
+    const std::size_t k = offset_[a] + npartner_[a]++;
+    ptag[k] = partner;
+    for (int m = 0; m < nv_; m++) pval[k * nv_ + m] = sign * v[m];
+  });
+  pool_tag_.swap(ptag);  // the old pool is freed: capacity follows the contacts present
+  pool_val_.swap(pval);
+  set_maxexchange(most);
   atoms_stale_ = false;
 }
 
 void FixContactHistory::list_from_atoms()
 {
   if (!list_) error->all(FLERR, "fix dembridge/contact/history: no neighbour list (internal error)");
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
   const tagint *tag = atom->tag;
   const int *ilist = list_->ilist, *numneigh = list_->numneigh;
   std::size_t total = 0;
-  first_.assign(atom->nmax, 0);
+  first_.assign(nlocal, 0);
   for (int ii = 0; ii < list_->inum; ii++) {
     const int i = ilist[ii];
     first_[i] = total;
     total += numneigh[i];
   }
+  // release the storage of a denser past (assign never shrinks a vector)
+  if (values_.capacity() > 2 * total * nv_ + 4096) std::vector<double>().swap(values_);
+  if (touch_.capacity() > 2 * total + 4096) std::vector<unsigned char>().swap(touch_);
   values_.assign(total * nv_, 0.0);
   touch_.assign(total, 0);
   for (int ii = 0; ii < list_->inum; ii++) {
     const int i = ilist[ii];
     if (npartner_[i] == 0) continue;
     const int *jlist = list_->firstneigh[i];
-    const std::size_t base = std::size_t(i) * cap_;
+    const std::size_t base = offset_[i];
     for (int jj = 0; jj < numneigh[i]; jj++) {
       const tagint tj = tag[jlist[jj] & NEIGHMASK];
       for (int k = 0; k < npartner_[i]; k++) {
-        if (partner_[base + k] != tj) continue;
-        std::memcpy(slot(i, jj), &pvalues_[(base + k) * nv_], nv_ * sizeof(double));
+        if (pool_tag_[base + k] != tj) continue;
+        std::memcpy(slot(i, jj), &pool_val_[(base + k) * nv_], nv_ * sizeof(double));
         touched(i, jj) = 1;
         break;
       }
     }
   }
+  list_tag_.assign(tag, tag + nall);
+  list_nlocal_ = nlocal;
 }
 
-void FixContactHistory::grow_capacity(int need)
+std::size_t FixContactHistory::live_entries() const
 {
-  const int newcap = std::max(need, cap_);
-  std::vector<tagint> p(std::size_t(nmax_) * newcap);
-  std::vector<double> v(std::size_t(nmax_) * newcap * nv_);
-  for (int i = 0; i < nmax_; i++)
-    for (int k = 0; k < npartner_[i]; k++) {
-      p[std::size_t(i) * newcap + k] = partner_[std::size_t(i) * cap_ + k];
-      std::memcpy(&v[(std::size_t(i) * newcap + k) * nv_], &pvalues_[(std::size_t(i) * cap_ + k) * nv_], nv_ * sizeof(double));
+  std::size_t n = 0;
+  for (int i = 0; i < atom->nlocal; i++) n += npartner_[i];
+  return n;
+}
+
+// Exchanges and restarts append to the pool; keep it within twice the entries in use.
+void FixContactHistory::compact_pool()
+{
+  const std::size_t live = live_entries();
+  if (pool_tag_.size() <= 2 * live + 1024) return;
+  std::vector<tagint> ptag(live);
+  std::vector<double> pval(live * nv_);
+  std::size_t k = 0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    std::copy_n(&pool_tag_[offset_[i]], npartner_[i], &ptag[k]);
+    std::copy_n(&pool_val_[offset_[i] * nv_], npartner_[i] * nv_, &pval[k * nv_]);
+    offset_[i] = k;
+    k += npartner_[i];
+  }
+  pool_tag_.swap(ptag);
+  pool_val_.swap(pval);
+}
+
+// delete_atoms (compress yes) and reset_atoms id renumber atoms between runs: partner tags are
+// translated to the new IDs, partners that no longer exist are dropped.
+void FixContactHistory::follow_renumbered_tags()
+{
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  int changed = 0, any = 0;
+  for (int i = 0; i < nlocal && !changed; i++) changed = own_tag_[i] != 0 && own_tag_[i] != tag[i];
+  MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, world);
+  if (!any) return;
+
+  std::vector<tagint> mine;  // (old, new) of every atom whose list this rank holds
+  for (int i = 0; i < nlocal; i++)
+    if (own_tag_[i] != 0) {
+      mine.push_back(own_tag_[i]);
+      mine.push_back(tag[i]);
     }
-  partner_.swap(p);
-  pvalues_.swap(v);
-  cap_ = newcap;
-  maxexchange = 1 + cap_ * (1 + nv_);
+  int n = int(mine.size());
+  std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int p = 1; p < comm->nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
+  std::vector<tagint> all(std::size_t(displs.back()) + counts.back());
+  MPI_Allgatherv(mine.data(), n, MPI_LMP_TAGINT, all.data(), counts.data(), displs.data(), MPI_LMP_TAGINT, world);
+  std::unordered_map<tagint, tagint> renamed(all.size());
+  for (std::size_t k = 0; k + 1 < all.size(); k += 2) renamed.emplace(all[k], all[k + 1]);
+
+  std::vector<tagint> ptag;
+  std::vector<double> pval;
+  for (int i = 0; i < nlocal; i++) {
+    const std::size_t base = offset_[i], start = ptag.size();
+    for (int k = 0; k < npartner_[i]; k++) {
+      auto it = renamed.find(pool_tag_[base + k]);
+      if (it == renamed.end()) continue;
+      ptag.push_back(it->second);
+      pval.insert(pval.end(), &pool_val_[(base + k) * nv_], &pool_val_[(base + k + 1) * nv_]);
+    }
+    offset_[i] = start;
+    npartner_[i] = int(ptag.size() - start);
+    own_tag_[i] = tag[i];
+  }
+  pool_tag_.swap(ptag);
+  pool_val_.swap(pval);
 }
 
 void FixContactHistory::grow_arrays(int nmax)
 {
   npartner_.resize(nmax, 0);
-  partner_.resize(std::size_t(nmax) * cap_);
-  pvalues_.resize(std::size_t(nmax) * cap_ * nv_);
-  nmax_ = nmax;
+  offset_.resize(nmax, 0);
+  own_tag_.resize(nmax, 0);
 }
 
+// Copies share the source's run of the pool (runs are never modified, only rebuilt).
 void FixContactHistory::copy_arrays(int i, int j, int /*delflag*/)
 {
   npartner_[j] = npartner_[i];
-  std::copy_n(&partner_[std::size_t(i) * cap_], npartner_[i], &partner_[std::size_t(j) * cap_]);
-  std::copy_n(&pvalues_[std::size_t(i) * cap_ * nv_], npartner_[i] * nv_, &pvalues_[std::size_t(j) * cap_ * nv_]);
+  offset_[j] = offset_[i];
+  own_tag_[j] = own_tag_[i];
+}
+
+void FixContactHistory::set_arrays(int i)
+{
+  npartner_[i] = 0;
+  offset_[i] = 0;
+  own_tag_[i] = 0;  // a new atom: its tag may not be assigned yet, and it has no partners
 }
 
 // Partner list of atom i as [n, tag_1, values_1..., tag_n, values_n...]; shared by exchange and restart.
@@ -159,8 +285,8 @@ int FixContactHistory::pack_partners(int i, double *buf) const
   int m = 0;
   buf[m++] = npartner_[i];
   for (int k = 0; k < npartner_[i]; k++) {
-    buf[m++] = ubuf(partner_[std::size_t(i) * cap_ + k]).d;
-    for (int q = 0; q < nv_; q++) buf[m++] = pvalues_[(std::size_t(i) * cap_ + k) * nv_ + q];
+    buf[m++] = ubuf(pool_tag_[offset_[i] + k]).d;
+    for (int q = 0; q < nv_; q++) buf[m++] = pool_val_[(offset_[i] + k) * nv_ + q];
   }
   return m;
 }
@@ -169,12 +295,14 @@ int FixContactHistory::unpack_partners(int i, const double *buf)
 {
   int m = 0;
   const int n = static_cast<int>(buf[m++]);
-  if (n > cap_) grow_capacity(n);
   npartner_[i] = n;
+  offset_[i] = pool_tag_.size();
   for (int k = 0; k < n; k++) {
-    partner_[std::size_t(i) * cap_ + k] = static_cast<tagint>(ubuf(buf[m++]).i);
-    for (int q = 0; q < nv_; q++) pvalues_[(std::size_t(i) * cap_ + k) * nv_ + q] = buf[m++];
+    pool_tag_.push_back(static_cast<tagint>(ubuf(buf[m++]).i));
+    for (int q = 0; q < nv_; q++) pool_val_.push_back(buf[m++]);
   }
+  if (1 + n * (1 + nv_) > maxexchange) set_maxexchange(n);
+  own_tag_[i] = atom->tag[i];
   return m;
 }
 
@@ -227,8 +355,22 @@ int FixContactHistory::maxsize_restart()
 
 double FixContactHistory::memory_usage()
 {
-  return double(values_.capacity()) * sizeof(double) + touch_.capacity() + first_.capacity() * sizeof(int) +
-      pvalues_.capacity() * sizeof(double) + partner_.capacity() * sizeof(tagint) + npartner_.capacity() * sizeof(int);
+  return double(values_.capacity()) * sizeof(double) + touch_.capacity() + first_.capacity() * sizeof(std::size_t) +
+      list_tag_.capacity() * sizeof(tagint) + pool_val_.capacity() * sizeof(double) + pool_tag_.capacity() * sizeof(tagint) +
+      npartner_.capacity() * sizeof(int) + offset_.capacity() * sizeof(std::size_t) + own_tag_.capacity() * sizeof(tagint);
+}
+
+// [1] bytes held, [2] contacts stored (each is kept by both atoms), [3] list-order slots,
+// [4] bytes of the contact storage alone (pool and list-order slots, without the per-atom index
+// arrays, which follow the atom count); all ranks.
+double FixContactHistory::compute_vector(int n)
+{
+  sync_atoms();
+  const double contact_bytes = double(values_.capacity()) * sizeof(double) + touch_.capacity() +
+      pool_val_.capacity() * sizeof(double) + pool_tag_.capacity() * sizeof(tagint);
+  double local[4] = {memory_usage(), 0.5 * double(live_entries()), double(touch_.size()), contact_bytes};
+  MPI_Allreduce(local, stats_, 4, MPI_DOUBLE, MPI_SUM, world);
+  return stats_[n];
 }
 
 static void *create_fix_contact_history(void *lmp, int narg, char **arg)

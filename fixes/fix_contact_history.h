@@ -3,7 +3,19 @@
 // migrate, are sorted, or a restart is written are they converted to per-atom partner lists
 // (partner tag + values, the partner's copy negated) that move with the atoms (spec
 // lammps-toolchain §4-§5: list order avoids the 24 % wall-time cost of per-atom look-ups).
-// Created and owned by the pair style; users never define it.
+//
+// Robust to other fixes: the conversion to per-atom lists reads the tags the neighbour list was
+// built with (not the live arrays, which a fix pour / deposit / evaporate placed before this one
+// may already have changed in pre_exchange) and finds the atoms by tag. Between runs, renumbered
+// atom IDs (delete_atoms compress yes) are followed; partners that no longer exist are dropped.
+//
+// Memory: the per-atom lists are one packed pool rebuilt at every conversion, so it is sized by
+// the contacts present (no per-atom stride set by the busiest atom); the list-order arrays shrink
+// when the neighbour list does.
+//
+// Created and owned by a pair style (one per history-carrying sub-style of pair hybrid); users
+// never define it. Global vector for tests and benchmarks (sums over ranks): [1] bytes held,
+// [2] contacts stored, [3] list-order slots, [4] bytes of the contact storage alone.
 #pragma once
 
 #include "fix.h"
@@ -18,13 +30,14 @@ class FixContactHistory : public LAMMPS_NS::Fix {
   FixContactHistory(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
   ~FixContactHistory() override;
   int setmask() override;
-  void setup_pre_exchange() override { pre_exchange(); }
+  void setup_pre_exchange() override;
   void setup_post_neighbor() override { post_neighbor(); }
   void min_pre_exchange() override { pre_exchange(); }
   void min_post_neighbor() override { post_neighbor(); }
   void pre_exchange() override;
   void post_neighbor() override;
   void post_run() override;
+  double compute_vector(int n) override;
 
   int nvalues() const { return nv_; }
   void set_list(LAMMPS_NS::NeighList *list) { list_ = list; }
@@ -36,7 +49,7 @@ class FixContactHistory : public LAMMPS_NS::Fix {
 
   void grow_arrays(int nmax) override;
   void copy_arrays(int i, int j, int delflag) override;
-  void set_arrays(int i) override { npartner_[i] = 0; }
+  void set_arrays(int i) override;
   int pack_exchange(int i, double *buf) override;
   int unpack_exchange(int nlocal, double *buf) override;
   int pack_restart(int i, double *buf) override;
@@ -47,30 +60,41 @@ class FixContactHistory : public LAMMPS_NS::Fix {
 
   // Per-atom view for tests/diagnostics: number of partners of local atom i, and the k-th.
   int npartner(int i) const { return npartner_[i]; }
-  LAMMPS_NS::tagint partner(int i, int k) const { return partner_[std::size_t(i) * cap_ + k]; }
-  const double *partner_values(int i, int k) const { return &pvalues_[(std::size_t(i) * cap_ + k) * nv_]; }
+  LAMMPS_NS::tagint partner(int i, int k) const { return pool_tag_[offset_[i] + k]; }
+  const double *partner_values(int i, int k) const { return &pool_val_[(offset_[i] + k) * nv_]; }
 
  private:
   int nv_;
   LAMMPS_NS::NeighList *list_ = nullptr;
   bool list_valid_ = false;   // list-order slots hold the current history
   bool atoms_stale_ = false;  // per-atom lists are older than the list-order slots
-  std::vector<int> first_;
+
+  // list order, with the tags and the owned-atom count the list was built with
+  std::vector<std::size_t> first_;
   std::vector<double> values_;
   std::vector<unsigned char> touch_;
-  int cap_ = 8;  // partners per atom before re-striding
-  int nmax_ = 0;
+  std::vector<LAMMPS_NS::tagint> list_tag_;
+  int list_nlocal_ = 0;
+
+  // per atom: a run of npartner_[i] entries at offset_[i] of the pool (copies share runs)
   std::vector<int> npartner_;
-  std::vector<LAMMPS_NS::tagint> partner_;
-  std::vector<double> pvalues_;
+  std::vector<std::size_t> offset_;
+  std::vector<LAMMPS_NS::tagint> own_tag_;  // the atom's tag when its list was written (0: unknown)
+  std::vector<LAMMPS_NS::tagint> pool_tag_;
+  std::vector<double> pool_val_;
+
+  // global vector, reduced once per call site
+  double stats_[4] = {0, 0, 0, 0};
 
   void atoms_from_list();
   void sync_atoms();
+  void list_from_atoms();
+  void follow_renumbered_tags();
+  void compact_pool();
   int pack_partners(int i, double *buf) const;
   int unpack_partners(int i, const double *buf);
-  void list_from_atoms();
-  void add_partner(int i, LAMMPS_NS::tagint tag, const double *v, double sign);
-  void grow_capacity(int need);
+  void set_maxexchange(int most_partners);
+  std::size_t live_entries() const;
 };
 
 }  // namespace dembridge

@@ -27,7 +27,12 @@ namespace dembridge {
 using gran::Dialect;
 using gran::TangentialModel;
 
+// One history fix per history-carrying pair (sub-)style: the first takes this ID, the k-th of a
+// pair hybrid this ID with "_k". The ID is stable across runs and processes (restart files).
 static const char *const kHistoryFixId = "DEMBRIDGE_CONTACT_HISTORY";
+static const char *const kHistoryFixStyle = "dembridge/contact/history";
+// Centre distances below 1e-12 of the radius sum count as coincident (squared here).
+static constexpr double kCoincident = 1e-24;
 
 PairGran::PairGran(LAMMPS *lmp, const char *style_name) : Pair(lmp), style_name_(style_name)
 {
@@ -39,7 +44,7 @@ PairGran::PairGran(LAMMPS *lmp, const char *style_name) : Pair(lmp), style_name_
 
 PairGran::~PairGran()
 {
-  if (history_ && modify->get_fix_by_id(kHistoryFixId)) modify->delete_fix(kHistoryFixId);
+  if (!history_id_.empty() && modify->get_fix_by_id(history_id_)) modify->delete_fix(history_id_);
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
@@ -80,6 +85,7 @@ void PairGran::settings(int narg, char **arg)
 {
   settings_args_.assign(arg, arg + narg);
   apply_settings(settings_args_);
+  reserve_history_place();
 }
 
 void PairGran::coeff(int narg, char **arg)
@@ -165,15 +171,35 @@ const property::GlobalProperty *PairGran::find_property(const std::string &name)
   return fix;
 }
 
+// Fixes act in the order they were defined. A fix pour or evaporate defined after pair_style
+// must see the history already converted to per-atom lists in pre_exchange, so the place is
+// taken now (as LAMMPS's own granular styles do) by a placeholder replaced in place at init.
+// (Whatever the order, the history fix also tolerates atoms changed before it runs.)
+void PairGran::reserve_history_place()
+{
+  if (model_.contact.history_size() == 0 || !domain->box_exist) return;
+  if (history_id_.empty()) history_id_ = free_history_id();
+  if (!modify->get_fix_by_id(history_id_)) modify->add_fix(history_id_ + " all " + kHistoryFixStyle + " 0");
+}
+
+std::string PairGran::free_history_id() const
+{
+  std::string name = kHistoryFixId;
+  for (int k = 2; modify->get_fix_by_id(name); k++) name = std::string(kHistoryFixId) + "_" + std::to_string(k);
+  return name;
+}
+
 void PairGran::create_history_fix()
 {
   const int nv = model_.contact.history_size();
-  Fix *f = modify->get_fix_by_id(kHistoryFixId);
-  if (f && static_cast<FixContactHistory *>(f)->nvalues() != nv) {
-    modify->delete_fix(kHistoryFixId);
-    f = nullptr;
-  }
-  if (!f) f = modify->add_fix(std::string(kHistoryFixId) + " all dembridge/contact/history " + std::to_string(nv));
+  if (history_id_.empty()) history_id_ = free_history_id();
+  Fix *f = modify->get_fix_by_id(history_id_);
+  if (f && std::string(f->style) != kHistoryFixStyle)
+    error->all(FLERR, "pair_style " + style_name_ + ": fix ID " + history_id_ + " is reserved for the contact history, but a fix " +
+                          f->style + " uses it; rename that fix");
+  // same ID and style: add_fix replaces the placeholder (or an old model's history) in place
+  if (!f || static_cast<FixContactHistory *>(f)->nvalues() != nv)
+    f = modify->add_fix(history_id_ + " all " + kHistoryFixStyle + " " + std::to_string(nv));
   history_ = static_cast<FixContactHistory *>(f);
 }
 
@@ -201,7 +227,13 @@ void PairGran::init_style()
   } catch (const gran::MaterialError &e) {
     error->all(FLERR, e.what());
   }
-  if (model_.contact.history_size() > 0) create_history_fix();
+  if (model_.contact.history_size() > 0) {
+    create_history_fix();
+  } else {
+    if (!history_id_.empty() && modify->get_fix_by_id(history_id_)) modify->delete_fix(history_id_);
+    history_id_.clear();
+    history_ = nullptr;
+  }
   // REQ_HISTORY would need LAMMPS's internal fix neigh/history; our fix keeps the history.
   neighbor->add_request(this, NeighConst::REQ_SIZE);
 }
@@ -263,7 +295,7 @@ void PairGran::compute(int eflag, int vflag)
   if (fix_rigid_ && neighbor->ago == 0) update_rigid_masses();
   const double *mass_rigid = fix_rigid_ ? mass_rigid_.data() : nullptr;
 
-  gran::ContactResult res;
+  gran::ContactResult res{};
   double scratch[6] = {0, 0, 0, 0, 0, 0};
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
@@ -293,12 +325,15 @@ void PairGran::compute(int eflag, int vflag)
         }
         continue;
       }
+      // coincident centres leave the contact normal undefined (the built-ins return NaN)
+      if (!(dx * dx + dy * dy + dz * dz > kCoincident * radsum * radsum)) degenerate_contact(i, j, true);
       double *hist = hist_i ? hist_i + jj * nv : scratch;
       const double mj = (mass_rigid && mass_rigid[j] > 0.0) ? mass_rigid[j] : rmass[j];
       const gran::SphereView b{x[j], v[j], omega[j], radius[j], mj};
       double meff = mi * mj / (mi + mj);
       if (ifrozen) meff = mj;
       if (mask[j] & freeze_groupbit_) meff = mi;
+      if (!std::isfinite(meff)) degenerate_contact(i, j, false);
       law_.evaluate(a, b, meff, coeff_row[type[j]], hist, history_update, dt, res);
       if (touch_i) touch_i[jj] = 1;
       for (int k = 0; k < 3; k++) {
@@ -318,6 +353,20 @@ void PairGran::compute(int eflag, int vflag)
   }
   if (history_) history_->mark_updated();
   if (vflag_fdotr) virial_fdotr_compute();
+}
+
+// A contact the law cannot evaluate: name both atoms and what is wrong, instead of NaN forces.
+void PairGran::degenerate_contact(int i, int j, bool coincident)
+{
+  const double *xi = atom->x[i], *xj = atom->x[j];
+  const std::string p = "pair_style " + style_name_ + ": " +
+      fmt::format("atom {} at ({:.17g} {:.17g} {:.17g}) and atom {} at ({:.17g} {:.17g} {:.17g})", atom->tag[i], xi[0], xi[1],
+                  xi[2], atom->tag[j], xj[0], xj[1], xj[2]);
+  if (coincident)
+    error->one(FLERR, p + " are coincident (centre distance below 1e-12 of the radius sum, or not finite): the contact "
+                          "normal is undefined; remove or move one of them (e.g. delete_atoms overlap)");
+  error->one(FLERR, p + fmt::format(" have no finite effective mass (masses {} and {}); give them a positive mass", atom->rmass[i],
+                                    atom->rmass[j]));
 }
 
 void PairGran::update_rigid_masses()

@@ -50,7 +50,11 @@ class PairGran : public LAMMPS_NS::Pair {
   std::map<std::string, property::GlobalProperty> restart_properties_;
 
   const property::GlobalProperty *find_property(const std::string &name);
+  std::string history_id_;  // ID of this style's history fix (empty: none yet)
+  void reserve_history_place();
+  std::string free_history_id() const;
   void create_history_fix();
+  [[noreturn]] void degenerate_contact(int i, int j, bool coincident);
   void allocate();
   void check_requirements();
   int max_type_present();

@@ -5,28 +5,15 @@ without the plugin. Decks: the 32k-sphere chute (1000 steps) and the 1296-sphere
 shared/bench, serial and on 2 ranks. Thermo output must be equal to the last printed digit
 (%20.15g) and the final per-atom state (%.17g dump) bitwise equal."""
 import os
-import re
 import shutil
 import subprocess
 
 import pytest
 
 import dembridge
+from thermo_log import thermo_rows
 
 BENCH = os.path.join(dembridge.shared_dir(), "bench")
-
-
-def _thermo_rows(log):
-    rows, on = [], False
-    for line in open(log):
-        if re.match(r"^\s*Step\s", line):
-            on = True
-            continue
-        if on and line.startswith("Loop time"):
-            on = False
-        if on and line.strip():
-            rows.append(line.split())
-    return rows
 
 
 def _run(workdir, deck, pair_lines, nprocs, tag, extra_vars=()):
@@ -41,7 +28,7 @@ def _run(workdir, deck, pair_lines, nprocs, tag, extra_vars=()):
     if nprocs > 1:
         cmd = [dembridge.mpiexec(), "-n", str(nprocs)] + cmd
     subprocess.run(cmd, cwd=workdir, check=True, timeout=600)
-    return _thermo_rows(os.path.join(workdir, f"log.{tag}")), open(os.path.join(workdir, f"final.{tag}.dump")).read()
+    return thermo_rows(os.path.join(workdir, f"log.{tag}")), open(os.path.join(workdir, f"final.{tag}.dump")).read()
 
 
 DECKS = {

@@ -394,7 +394,22 @@ void PairGran::unpack_forward_comm(int n, int first, double *buf)
 }
 
 // Restart: the settings words, then the material properties the model used (LIGGGHTS loses them).
+// pair hybrid stores only the settings of its sub-styles (pair_coeff is given again after
+// read_restart); a single style also restores its `pair_coeff * *`.
 void PairGran::write_restart(FILE *fp)
+{
+  write_restart_settings(fp);
+}
+
+void PairGran::read_restart(FILE *fp)
+{
+  read_restart_settings(fp);
+  allocate();
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++) setflag[i][j] = 1;
+}
+
+void PairGran::write_restart_settings(FILE *fp)
 {
   auto put_int = [fp](int v) { fwrite(&v, sizeof(int), 1, fp); };
   auto put_str = [&](const std::string &w) {
@@ -422,7 +437,7 @@ void PairGran::write_restart(FILE *fp)
   }
 }
 
-void PairGran::read_restart(FILE *fp)
+void PairGran::read_restart_settings(FILE *fp)
 {
   const bool me0 = comm->me == 0;
   auto get_int = [&]() {
@@ -453,9 +468,6 @@ void PairGran::read_restart(FILE *fp)
   }
   settings_args_ = args;
   apply_settings(args);
-  allocate();
-  for (int i = 1; i <= atom->ntypes; i++)
-    for (int j = i; j <= atom->ntypes; j++) setflag[i][j] = 1;
 }
 
 // One creator per style name: the name selects the model and the dialect.

@@ -33,6 +33,8 @@ class PairGran : public LAMMPS_NS::Pair {
   int pack_forward_comm(int n, int *list, double *buf, int pbc_flag, int *pbc) override;
   void unpack_forward_comm(int n, int first, double *buf) override;
   void read_restart(FILE *fp) override;
+  void write_restart_settings(FILE *fp) override;
+  void read_restart_settings(FILE *fp) override;
 
  private:
   std::string style_name_;

@@ -175,3 +175,27 @@ def test_liggghts_syntax_substyles_equal_single_style(tmp_path, syntax):
     print(f"{syntax}: hybrid of two sub-styles vs single style: max |dv, domega| / max |v| = {dev:.3e}")
     assert dev < 1e-9
     assert np.abs(single[:, 9:12]).max() > 1e-3, "the spheres must rotate (shear springs at work)"
+
+
+def test_hybrid_restart_equals_split_run_bitwise(tmp_path):
+    """Each sub-style's settings and history fix come back from a restart file (history fix IDs in
+    sub-style order; pair hybrid wants its pair_coeff lines again): 500 steps + write_restart + a new
+    process running 500 more equals `run 500` + `run 500` in one process, bitwise."""
+    pair = ["pair_style hybrid gran/hertz/history tangential_damping on gran model hertz tangential history tangential_damping on",
+            "pair_coeff 1 1 gran/hertz/history", "pair_coeff 1 2 gran/hertz/history", "pair_coeff 2 2 gran"]
+    text = deck(SETTLE)
+    text = re.sub(r"pair_style\s+\$\{style\}.*\npair_coeff\s+\* \*\n", "\n".join(pair) + "\n", text)
+    text = re.sub(r"compute\s+contacts.*\n|dump\s+contacts.*\n|dump_modify\s+contacts.*\n", "", text)
+    text = text.replace("plugin load ${plugin}\n", "")
+    # pair hybrid keeps its sub-styles' settings in the restart file, not the pair_coeff map
+    text = text.replace("read_restart    ${out}/state.restart\n", "read_restart    ${out}/state.restart\n" + "\n".join(pair[1:]) + "\n")
+    out = tmp_path / "r"
+    run(str(tmp_path), text, "split", True, 1, [("out", out), ("steps", 1000), ("split", "yes")])
+    run(str(tmp_path), text, "first", True, 1, [("out", out), ("steps", 500), ("phase", "first")])
+    _, log = run(str(tmp_path), text, "second", True, 1, [("out", out), ("steps", 500), ("phase", "second")])
+    for fix_id in ("DEMBRIDGE_CONTACT_HISTORY", "DEMBRIDGE_CONTACT_HISTORY_2"):
+        assert re.search(r"Resetting peratom fix info from restart file:\s+fix style: dembridge/contact/history, fix ID: "
+                         + fix_id + r"\n", log), fix_id
+    a = (out / "final.all.dump").read_text().split("ITEM: ATOMS")[1]
+    b = (out / "final.second.dump").read_text().split("ITEM: ATOMS")[1]
+    assert a == b, "per-atom state after the restart differs from the split run"

@@ -95,6 +95,36 @@ FixParmecRigid::FixParmecRigid(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, nar
   if (!atom->rmass_flag || !atom->quat_flag || !atom->omega_flag || !atom->torque_flag)
     error->all(FLERR, cmd_ + ": needs per-atom mass, quaternion, angular velocity and torque: use atom_style bpm/sphere");
   parse(std::vector<std::string>(arg + 3, arg + narg), "command line");
+  if (!joint_in_.empty()) {
+    array_flag = 1;
+    size_array_rows = int(joint_in_.size());
+    size_array_cols = 4;
+    extarray = 0;
+    reactions_.assign(joint_in_.size(), Vec3::Zero());
+    for (const auto &j : joint_in_)
+      for (tagint t : {j.tag1, j.tag2})
+        if (t > 0) body_index_[t] = 0;
+    for (auto &b : body_index_) {
+      b.second = int(body_tags_.size());
+      body_tags_.push_back(b.first);
+    }
+    std::vector<rigid::JointDef> defs;
+    for (const auto &j : joint_in_) {
+      rigid::JointDef d;
+      d.body1 = body_index_[j.tag1];
+      d.body2 = j.tag2 > 0 ? body_index_[j.tag2] : -1;
+      defs.push_back(d);
+    }
+    clusters_ = std::make_unique<rigid::JointClusters>(int(body_tags_.size()), defs);
+    if (!joint_file_.empty() && comm->me == 0) {
+      joint_fp_ = fopen(joint_file_.c_str(), "w");
+      if (!joint_fp_) error->one(FLERR, cmd_ + ": joint_output: cannot open '" + joint_file_ + "'");
+      fprintf(joint_fp_, "STEP");
+      for (const auto &j : joint_in_)
+        fprintf(joint_fp_, ",j%ld_JREAC_X,j%ld_JREAC_Y,j%ld_JREAC_Z,j%ld_|JREAC|", j.id, j.id, j.id, j.id);
+      fprintf(joint_fp_, "\n");
+    }
+  }
   for (auto &g : gravity_) resolve(g, "gravity");
   for (auto &d : damp_lin_) resolve(d, "damping linear");
   for (auto &d : damp_ang_) resolve(d, "damping angular");
@@ -107,6 +137,7 @@ FixParmecRigid::FixParmecRigid(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, nar
 
 FixParmecRigid::~FixParmecRigid()
 {
+  if (joint_fp_) fclose(joint_fp_);
   if (!id_state_.empty() && modify && modify->nfix && modify->get_fix_by_id(id_state_)) modify->delete_fix(id_state_);
 }
 
@@ -222,6 +253,30 @@ void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::strin
       }
       if (!p.lin && !p.ang) error->all(FLERR, at + "prescribe " + std::to_string(tag) + ": expected 'linear' and/or 'angular'");
       prescriptions_[tag] = p;
+    } else if (kw == "joint") {
+      need(6, "an ID, atom ID 1, the point x y z and atom ID 2 (or -1)");
+      JointInput j;
+      double v;
+      if (!parse_double(tok[i + 1], v) || v != std::floor(v))
+        error->all(FLERR, at + "joint: expected an integer joint ID, got '" + tok[i + 1] + "'");
+      j.id = static_cast<long>(v);
+      for (const auto &o : joint_in_)
+        if (o.id == j.id) error->all(FLERR, at + "joint " + tok[i + 1] + ": ID defined twice");
+      j.tag1 = tag_of(tok[i + 2], "joint " + tok[i + 1] + " atom 1");
+      for (int c = 0; c < 3; c++)
+        if (!parse_double(tok[i + 3 + c], j.point[c]))
+          error->all(FLERR, at + "joint " + tok[i + 1] + ": expected the point x y z, got '" + tok[i + 3 + c] + "'");
+      if (tok[i + 6] == "-1")
+        j.tag2 = -1;
+      else
+        j.tag2 = tag_of(tok[i + 6], "joint " + tok[i + 1] + " atom 2 (or -1)");
+      if (j.tag1 == j.tag2) error->all(FLERR, at + "joint " + tok[i + 1] + ": joins atom " + tok[i + 2] + " with itself");
+      joint_in_.push_back(j);
+      i += 7;
+    } else if (kw == "joint_output") {
+      need(1, "a file name");
+      joint_file_ = tok[i + 1];
+      i += 2;
     } else if (kw == "inertia") {
       need(1, "'sphere' or the name of a d2_ property with 6 columns");
       inertia_name_ = tok[i + 1] == "sphere" ? "" : tok[i + 1];
@@ -232,16 +287,16 @@ void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::strin
         error->all(FLERR, at + "start: expected 'parmec' (initial half drift) or 'none', got '" + tok[i + 1] + "'");
       half_drift_ = tok[i + 1] == "parmec";
       i += 2;
-    } else if (kw == "q1" || kw == "q2" || kw == "q3" || kw == "q20" || kw == "qj") {
+    } else if (kw == "q1" || kw == "q2" || kw == "q3" || kw == "q20" || kw == "qj" || kw == "q16") {
       need(1, "'yes' or 'no'");
       const bool on = yesno(kw, tok[i + 1]);
-      (kw == "q1" ? q1_ : kw == "q2" ? q2_ : kw == "q3" ? q3_ : kw == "q20" ? q20_ : qj_) = on;
+      (kw == "q1" ? q1_ : kw == "q2" ? q2_ : kw == "q3" ? q3_ : kw == "q20" ? q20_ : kw == "q16" ? q16_ : qj_) = on;
       i += 2;
     } else if (kw == "quirks") {
       need(1, "'parmec' or 'none'");
       if (tok[i + 1] != "parmec" && tok[i + 1] != "none")
         error->all(FLERR, at + "quirks: expected 'parmec' or 'none', got '" + tok[i + 1] + "'");
-      q1_ = q2_ = q3_ = q20_ = qj_ = tok[i + 1] == "parmec";
+      q1_ = q2_ = q3_ = q20_ = qj_ = q16_ = tok[i + 1] == "parmec";
       i += 2;
     } else if (kw == "file") {
       need(1, "a file name");
@@ -250,8 +305,8 @@ void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::strin
       i += 2;
     } else {
       error->all(FLERR, at + "unknown keyword '" + kw +
-                            "' (expected tseries, gravity, damping, restrain, prescribe, inertia, start, quirks, "
-                            "q1, q2, q3, q20, qj or file)");
+                            "' (expected tseries, gravity, damping, restrain, prescribe, joint, joint_output, inertia, "
+                            "start, quirks, q1, q2, q3, q16, q20, qj or file)");
     }
   }
 }
@@ -321,7 +376,154 @@ void FixParmecRigid::init()
   };
   check_tags("restrain", restraints_);
   check_tags("prescribe", prescriptions_);
+  std::map<tagint, int> jointed;
+  for (tagint t : body_tags_) jointed[t] = 0;
+  check_tags("joint atom", jointed);
+  for (const auto &j : joint_in_)
+    for (tagint t : {j.tag1, j.tag2}) {
+      auto p = prescriptions_.find(t);
+      if (t <= 0 || p == prescriptions_.end()) continue;
+      const Prescription &q = p->second;
+      if (!(q.lin && q.ang && !q.lin_acc && !q.ang_acc))
+        error->all(FLERR, cmd_ + ": joint " + std::to_string(j.id) + ": atom " + std::to_string(t) +
+                              " is prescribed partly or by acceleration; a jointed body may only be prescribed by "
+                              "velocity, linear and angular (it then drives the joint)");
+      if (j.tag2 == -1)
+        error->all(FLERR, cmd_ + ": joint " + std::to_string(j.id) + ": atom " + std::to_string(t) +
+                              " is both pinned in space by the joint and prescribed (its motion is given twice)");
+    }
   refresh_state();
+}
+
+Mat3 FixParmecRigid::inertia(int i) const
+{
+  if (J_) return rigid::inertia_from_list(J_[i]);
+  return Mat3::Identity() * (0.4 * atom->rmass[i] * atom->radius[i] * atom->radius[i]);
+}
+
+void FixParmecRigid::setup_joints()
+{
+  // arms from the reference configuration: every rank gets (tag, x, Λ) of the jointed bodies
+  const int nb = int(body_tags_.size());
+  std::vector<double> mine, all(std::size_t(nb) * 13, 0.0);
+  for (int i = 0; i < atom->nlocal; i++) {
+    auto it = body_index_.find(atom->tag[i]);
+    if (it == body_index_.end()) continue;
+    double *rec = &all[std::size_t(it->second) * 13];
+    rec[0] = 1.0;
+    for (int c = 0; c < 3; c++) rec[1 + c] = atom->x[i][c];
+    for (int k = 0; k < 9; k++) rec[4 + k] = L_[i][k];
+  }
+  std::vector<double> sum(all.size());
+  MPI_Allreduce(all.data(), sum.data(), int(all.size()), MPI_DOUBLE, MPI_SUM, world);
+  arms_.assign(2 * joint_in_.size(), Vec3::Zero());
+  for (std::size_t j = 0; j < joint_in_.size(); j++) {
+    const JointInput &in = joint_in_[j];
+    for (int e = 0; e < 2; e++) {
+      const tagint t = e == 0 ? in.tag1 : in.tag2;
+      if (t <= 0) continue;
+      const double *rec = &sum[std::size_t(body_index_[t]) * 13];
+      const Vec3 P(in.point[0], in.point[1], in.point[2]), X(rec[1], rec[2], rec[3]);
+      arms_[2 * j + e] = load(rec + 4).transpose() * (P - X);
+    }
+  }
+  for (std::size_t j = 0; j < joint_in_.size(); j++)
+    for (int e = 0; e < 2; e++) clusters_->set_arm(int(j), e, arms_[2 * j + e]);
+}
+
+void FixParmecRigid::apply_joints(std::vector<Vec3> &F0, std::vector<Vec3> &T0, const double *dl, const double *da,
+                                  double tv)
+{
+  constexpr int kRec = 29;
+  const double h = update->dt;
+  std::vector<double> mine;
+  for (int i = 0; i < atom->nlocal; i++) {
+    auto it = body_index_.find(atom->tag[i]);
+    if (it == body_index_.end() || !(atom->mask[i] & groupbit)) continue;
+    const Mat3 J = inertia(i), L = load(L_[i]);
+    const Vec3 v = vec(atom->v[i]), w = vec(atom->omega[i]);
+    const double m = atom->rmass[i];
+    // free end-of-step motion includes global damping (spec §9)
+    const Vec3 F = F0[i] - m * Vec3(dl[0] * v[0], dl[1] * v[1], dl[2] * v[2]);
+    const Vec3 T = T0[i] - L * J * L.transpose() * Vec3(da[0] * w[0], da[1] * w[1], da[2] * w[2]);
+    mine.push_back(it->second);
+    mine.push_back(m);
+    const double six[6] = {J(0, 0), J(1, 1), J(2, 2), J(0, 1), J(0, 2), J(1, 2)};
+    mine.insert(mine.end(), six, six + 6);
+    mine.insert(mine.end(), L_[i], L_[i] + 9);
+    mine.insert(mine.end(), W_[i], W_[i] + 3);
+    for (const Vec3 *a : {&v, &F, &T}) mine.insert(mine.end(), a->data(), a->data() + 3);
+  }
+  int n = int(mine.size()), nprocs = comm->nprocs;
+  std::vector<int> counts(nprocs), displs(nprocs, 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int p = 1; p < nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
+  std::vector<double> all(std::size_t(displs[nprocs - 1] + counts[nprocs - 1]));
+  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, world);
+
+  std::vector<rigid::BodyKinematics> bodies(body_tags_.size());
+  std::vector<char> seen(body_tags_.size(), 0);
+  for (std::size_t k = 0; k + kRec <= all.size(); k += kRec) {
+    const double *r = &all[k];
+    const int b = int(r[0]);
+    seen[b] = 1;
+    rigid::BodyKinematics &B = bodies[b];
+    const Mat3 J = rigid::inertia_from_list(r + 2);
+    B.L = load(r + 8);
+    B.W = Vec3(r[17], r[18], r[19]);
+    B.v = Vec3(r[20], r[21], r[22]);
+    auto p = prescriptions_.find(body_tags_[b]);
+    if (p != prescriptions_.end()) {
+      // kinematic driver: prescribed velocities at the end of the step, infinite mass in the joint solve
+      const Prescription &q = p->second;
+      B.v_free = Vec3(eval(q.l[0], tv), eval(q.l[1], tv), eval(q.l[2], tv));
+      B.W_free = B.L.transpose() * Vec3(eval(q.a[0], tv), eval(q.a[1], tv), eval(q.a[2], tv));
+      continue;
+    }
+    B.inv_mass = 1.0 / r[1];
+    B.inv_inertia = J.inverse();
+    B.v_free = B.v + (h / r[1]) * Vec3(r[23], r[24], r[25]);
+    B.W_free = rigid::rotation_step(J, B.inv_inertia, B.L, B.W, Vec3(r[26], r[27], r[28]), h, q3_).W;
+  }
+  for (std::size_t b = 0; b < seen.size(); b++)
+    if (!seen[b])
+      error->all(FLERR, cmd_ + ": joint atom " + std::to_string(body_tags_[b]) + " is not in the fix group or was lost");
+  rigid::JointClusters &cl = *clusters_;
+  const std::vector<rigid::JointDef> &defs = cl.joints();
+  try {
+    reactions_ = cl.solve(bodies, h, q16_);
+  } catch (rigid::SingularCluster &e) {
+    std::string ids;
+    for (int j : e.joints) ids += " " + std::to_string(joint_in_[j].id);
+    error->all(FLERR, cmd_ + ": singular joint cluster (joints" + ids +
+                          "): the joints constrain the same motion twice, e.g. a body pinned twice at one point");
+  }
+  for (int i = 0; i < atom->nlocal; i++) {
+    auto it = body_index_.find(atom->tag[i]);
+    if (it == body_index_.end() || !(atom->mask[i] & groupbit)) continue;
+    const Mat3 L = load(L_[i]);
+    for (std::size_t j = 0; j < joint_in_.size(); j++) {
+      const rigid::JointDef &d = defs[j];
+      for (int e = 0; e < 2; e++) {
+        if ((e == 0 ? d.body1 : d.body2) != it->second) continue;
+        const Vec3 R = (e == 0 ? 1.0 : -1.0) * reactions_[j];
+        F0[i] += R;
+        T0[i] += (L * arms_[2 * j + e]).cross(R);
+      }
+    }
+  }
+  if (joint_fp_) {
+    fprintf(joint_fp_, BIGINT_FORMAT, update->ntimestep);
+    for (const Vec3 &R : reactions_) fprintf(joint_fp_, ",%.17g,%.17g,%.17g,%.17g", R[0], R[1], R[2], R.norm());
+    fprintf(joint_fp_, "\n");
+    fflush(joint_fp_);
+  }
+}
+
+double FixParmecRigid::compute_array(int i, int j)
+{
+  if (i < 0 || i >= int(reactions_.size())) return 0.0;
+  return j < 3 ? reactions_[i][j] : reactions_[i].norm();
 }
 
 void FixParmecRigid::refresh_state()
@@ -363,6 +565,7 @@ void FixParmecRigid::setup_pre_exchange()
     put(L.transpose() * vec(atom->omega[i]), W_[i]);
   }
   if (!started_) {
+    if (clusters_) setup_joints();
     if (!q2_) {
       // corrected start: a prescribed velocity holds from t = 0 (Parmec, Q2: the initial velocity is used)
       const double t0 = update->atime + double(update->ntimestep - update->atimestep) * update->dt;
@@ -432,20 +635,24 @@ void FixParmecRigid::final_integrate()
   }
   const double tv = q2_ ? tn : tn + h;  // time of a prescribed velocity (Q2: one step late)
   double **x = atom->x, **v = atom->v, **f = atom->f, **omega = atom->omega, **torque = atom->torque;
-  const double *rmass = atom->rmass, *radius = atom->radius;
+  const double *rmass = atom->rmass;
   const int *mask = atom->mask;
-  for (int i = 0; i < atom->nlocal; i++) {
+  const int nlocal = atom->nlocal;
+  // forces of the step: other fixes' forces + gravity, then the joint reactions (spec §1.1 steps 3-6)
+  std::vector<Vec3> F0(nlocal), T0(nlocal);
+  for (int i = 0; i < nlocal; i++) {
+    F0[i] = vec(f[i]) + rmass[i] * Vec3(g[0], g[1], g[2]);
+    T0[i] = vec(torque[i]);
+  }
+  if (clusters_) apply_joints(F0, T0, dl, da, tv);
+  for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     const double m = rmass[i];
-    Mat3 J;
-    if (J_)
-      J = rigid::inertia_from_list(J_[i]);
-    else
-      J = Mat3::Identity() * (0.4 * m * radius[i] * radius[i]);
+    const Mat3 J = inertia(i);
     const Mat3 Jinv = J.inverse();
     const Mat3 L = load(L_[i]);
-    Vec3 F = vec(f[i]) + m * Vec3(g[0], g[1], g[2]);
-    Vec3 T = vec(torque[i]);
+    Vec3 F = F0[i];
+    Vec3 T = T0[i];
     const Vec3 vn = vec(v[i]), wn = vec(omega[i]);
 
     auto r = restraints_.find(atom->tag[i]);
@@ -497,16 +704,27 @@ void FixParmecRigid::final_integrate()
 void FixParmecRigid::write_restart(FILE *fp)
 {
   if (comm->me == 0) {
-    const int n = 1;
-    const double data = started_;
+    std::vector<double> data = {double(started_), double(arms_.size())};
+    for (const Vec3 &a : arms_) data.insert(data.end(), a.data(), a.data() + 3);
+    const int n = int(data.size() * sizeof(double));
     fwrite(&n, sizeof(int), 1, fp);
-    fwrite(&data, sizeof(double), 1, fp);
+    fwrite(data.data(), sizeof(double), data.size(), fp);
   }
 }
 
 void FixParmecRigid::restart(char *buf)
 {
-  started_ = reinterpret_cast<double *>(buf)[0] != 0.0;
+  const double *d = reinterpret_cast<double *>(buf);
+  started_ = d[0] != 0.0;
+  const std::size_t na = std::size_t(d[1]);
+  if (na != arms_.size() && na != 2 * joint_in_.size())
+    error->all(FLERR, cmd_ + ": the restart file holds " + std::to_string(na / 2) + " joints, this fix defines " +
+                          std::to_string(joint_in_.size()) + " (re-issue the same fix command)");
+  arms_.assign(na, Vec3::Zero());
+  for (std::size_t k = 0; k < na; k++) arms_[k] = Vec3(d[2 + 3 * k], d[3 + 3 * k], d[4 + 3 * k]);
+  if (clusters_)
+    for (std::size_t j = 0; j < joint_in_.size(); j++)
+      for (int e = 0; e < 2; e++) clusters_->set_arm(int(j), e, arms_[2 * j + e]);
 }
 
 static void *create_fix_parmec_rigid(void *lmp, int narg, char **arg)

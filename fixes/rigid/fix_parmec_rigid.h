@@ -14,9 +14,11 @@
 #include "fix.h"
 
 #include "BodyRotation.h"
+#include "JointSolver.h"
 #include "TimeSeries.h"
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -34,6 +36,7 @@ class FixParmecRigid : public LAMMPS_NS::Fix {
   void final_integrate() override;
   void write_restart(FILE *fp) override;
   void restart(char *buf) override;
+  double compute_array(int i, int j) override;
 
  private:
   // A time-dependent scalar: constant, TSERIES (clamped, Parmec's TMS_Value) or equal-style variable.
@@ -62,6 +65,10 @@ class FixParmecRigid : public LAMMPS_NS::Fix {
   void half_drift();
   void refresh_state();
   double step_time() const;  // t_n of the step being integrated
+  void setup_joints();       // body list, clusters, arms (first run: from the reference configuration)
+  void apply_joints(std::vector<rigid::Vec3> &F0, std::vector<rigid::Vec3> &T0, const double *dl, const double *da,
+                    double tv);
+  rigid::Mat3 inertia(int i) const;
 
   std::string cmd_;
   std::map<std::string, springs::TimeSeries> tseries_;
@@ -73,6 +80,20 @@ class FixParmecRigid : public LAMMPS_NS::Fix {
   bool q1_ = false, q2_ = false, q3_ = false, q20_ = false, qj_ = false;
   bool half_drift_ = true;
   int started_ = 0;  // initial half drift done (restart keeps it)
+  struct JointInput {
+    long id = 0;
+    LAMMPS_NS::tagint tag1 = 0, tag2 = -1;
+    double point[3] = {0, 0, 0};
+  };
+  std::vector<JointInput> joint_in_;
+  std::vector<LAMMPS_NS::tagint> body_tags_;  // jointed bodies, sorted by tag
+  std::map<LAMMPS_NS::tagint, int> body_index_;
+  std::vector<rigid::Vec3> arms_;             // 2 per joint (body frame), from the reference configuration
+  std::unique_ptr<rigid::JointClusters> clusters_;
+  std::vector<rigid::Vec3> reactions_;
+  bool q16_ = false;
+  std::string joint_file_;
+  FILE *joint_fp_ = nullptr;
   std::string id_state_;
   double **L_ = nullptr, **W_ = nullptr, **J_ = nullptr;
 };

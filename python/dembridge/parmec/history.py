@@ -8,7 +8,7 @@ PARTICLE = {"PX", "PY", "PZ", "|P|", "DX", "DY", "DZ", "|D|", "VX", "VY", "VZ", 
 SPRING = ["LENGTH", "STROKE", "F", "SF", "FF", "SS"]          # fix parmec/spring local columns 2..7
 TORSION = ["ROLL", "PITCH", "YAW", "TRQTOT_R", "TRQTOT_P", "TRQTOT_Y", "TRQSPR_R", "TRQSPR_P", "TRQSPR_Y",
            "XDIR_X", "XDIR_Y", "XDIR_Z", "ZDIR_X", "ZDIR_Y", "ZDIR_Z"]  # fix parmec/torsion columns 2..16
-JOINT = {"JREAC_X", "JREAC_Y", "JREAC_Z", "|JREAC|"}
+JOINT = ["JREAC_X", "JREAC_Y", "JREAC_Z", "|JREAC|"]
 
 
 def request(model, entity, source, point):
@@ -24,14 +24,15 @@ def request(model, entity, source, point):
     elif entity in TORSION:
         kind = "torsion"
     elif entity in JOINT:
-        fail(cmd, f"entity '{entity}': joints (BALL_JOINT) are not supported yet")
+        kind = "joint"
     else:
         fail(cmd, f"unknown entity {entity!r}")
     if kind != "time":
         if isinstance(source, tuple):
             fail(cmd, "argument 'source': spatial sphere/box sources are not supported")
         ids = list(source) if isinstance(source, list) else [source]
-        n = {"particle": len(model.particles), "spring": len(model.springs), "torsion": len(model.torsions)}[kind]
+        n = {"particle": len(model.particles), "spring": len(model.springs), "torsion": len(model.torsions),
+             "joint": len(model.joints)}[kind]
         for i in ids:
             if not isinstance(i, int) or isinstance(i, bool) or not 0 <= i < n:
                 fail(cmd, f"argument 'source': {i!r} is not a {kind} number (0 ... {n - 1}) for entity '{entity}'")

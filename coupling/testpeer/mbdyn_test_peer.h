@@ -45,6 +45,7 @@ struct PeerSetup {
   double io_timeout_s = 10.0;  // the real MBDyn waits forever; tests must not
   Fault fault = Fault::None;
   int fault_message = 1;
+  std::string kinematics_log;  // if set: one line per kinematics message sent (see main.cpp)
   std::function<void(int port)> on_listening;  // called once listening (TCP port if any)
 };
 

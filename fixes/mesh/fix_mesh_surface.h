@@ -57,7 +57,11 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   static FixMeshSurface *find(LAMMPS_NS::LAMMPS *lmp, const std::string &id, const std::string &caller);
   const mesh::TriangleMesh &mesh() const { return *mesh_; }
   int wall_type() const { return wall_type_; }
-  bool moving() const { return !movers_.empty(); }
+  bool moving() const { return !movers_.empty() || external_driver_; }
+  // A fix that moves the mesh itself (fix mbdyn ... node mesh ID) marks it as moving, so the
+  // candidates use the full skin and the geometry is refreshed at re-neighbouring (§6, §7.3).
+  void drive_externally() { external_driver_ = true; }
+  bool driven_externally() const { return external_driver_; }
   int ncandidates(int i) const { return i < neighbors_.nparticles() ? neighbors_.count(i) : 0; }
   const int *candidates(int i) const { return neighbors_.begin(i); }
   mesh::TriangleContact closest(int tri, const double *x, double radius) const
@@ -89,6 +93,7 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   std::vector<double> tri_force_;          // per triangle, this rank
   std::vector<mesh::TriangleNodes> nodes_at_build_;
   bool rebuilt_this_step_ = false;
+  bool external_driver_ = false;
   bool conveyor_ = false;       // surface_vel / surface_ang_vel
   bool totals_stale_ = false;   // totals changed since the last MPI sum (same on every rank)
 

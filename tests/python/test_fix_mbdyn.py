@@ -550,7 +550,7 @@ BAD = {
     "unknown_atom": ("node atom 1", "node atom 99", ["node 1 (atom 99)", "no atom with ID 99"]),
     "unknown_keyword": ("connect_timeout 20", "connect_timeout 20 frobnicate 3",
                         ["unknown keyword 'frobnicate'", "expected one of"]),
-    "bad_node_kind": ("node atom 1", "node body 1", ["'node' expects 'atom ATOM-ID' or 'group GROUP-ID'", "'body'"]),
+    "bad_node_kind": ("node atom 1", "node body 1", ["'node' expects 'atom ATOM-ID', 'group GROUP-ID' or 'mesh MESH-ID'", "'body'"]),
     "unknown_group": ("node atom 1", "node group wall", ["group 'wall' does not exist"]),
     "bad_timeout": ("io_timeout 20", "io_timeout soon", ["'io_timeout' expects seconds", "'soon'"]),
     "bad_substeps": ("substeps 1", "substeps 0", ["'substeps' expects a positive integer", "'0'"]),
@@ -558,6 +558,9 @@ BAD = {
     "bad_mbdyn_dt": ("substeps 1", "mbdyn_dt 0.0015", ["integer multiple of the LAMMPS timestep"]),
     "bad_predictor": ("substeps 1", "substeps 1 predictor taylor", ["keyword 'predictor' expects mbdyn or correct", "'taylor'"]),
     "startup_loose": ("substeps 1", "substeps 1 startup_exchange no", ["'startup_exchange no' is for coupling tight"]),
+    "unknown_mesh": ("node atom 1", "node mesh nomesh", ["node mesh nomesh"]),
+    "mesh_without_stress": ("fix M all mbdyn", "fix nomesh all mesh/surface file "
+                            "tri.stl type 1\nfix M all mbdyn", ["needs fix mesh/surface/stress"]),
     "respa": ("run 10", "run_style respa 2 2\nrun 10", ["does not support run_style respa"]),
     "gravity_order": ("fix D all viscous", "fix G all gravity 9.81 vector 0 0 -1\nfix D all viscous",
                       ["gravity no (the default) needs fix G", "after fix mbdyn"]),
@@ -568,6 +571,10 @@ BAD = {
 def test_bad_input(case, sockdir):
     old, new, expect = BAD[case]
     deck = spring_mass_deck(os.path.join(sockdir, "never.sock"), 0.001, 1, 10).replace(old, new, 1)
+    if case == "mesh_without_stress":
+        deck = deck.replace("node atom 1", "node mesh nomesh")
+        open(os.path.join(sockdir, "tri.stl"), "w").write(
+            "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 0.1 0 0\nvertex 0 0.1 0\nendloop\nendfacet\nendsolid t\n")
     rc, out, secs = run_lammps(deck, sockdir, timeout=60)
     err = error_line(out)
     assert rc != 0

@@ -400,6 +400,12 @@ class Runner:
         torsions = {int(k): v for k, v in snap.get("torsion", {}).items()}
         self._fill(label, states, springs, torsions, snap.get("joint"))
 
+    def _initial_length(self, k):
+        """LENGTH of a spring before the first step (Parmec's row 0): the distance of its reference points."""
+        s = self.model.springs[k]
+        q = _plane_foot(s) if s["plane"] is not None else s["point2"]
+        return math.dist(s["point1"], q)
+
     def _fill(self, label, states, springs, torsions, joints):
         m = self.model
         for r in m.histories:
@@ -414,7 +420,7 @@ class Runner:
                     row = springs.get(i)
                     code = -1.0 if m.springs[i]["inactive"] else -2.0 if any(
                         i in u["msprings"] for u in m.unsprings) else -3.0
-                    default = code if r["entity"] == "SS" else 0.0
+                    default = code if r["entity"] == "SS" else self._initial_length(i) if r["entity"] == "LENGTH" else 0.0
                     vals.append(default if row is None else row[SPRING.index(r["entity"])])
                 elif r["kind"] == "joint":
                     vals.append(0.0 if not joints else joints[4 * i + JOINT.index(r["entity"])])
@@ -427,6 +433,15 @@ class Runner:
 def geo_max():
     import sys
     return sys.float_info.max
+
+
+def _plane_foot(s):
+    """Parmec's plane point of a point-to-plane spring: point1 projected onto the plane (spec §2.1)."""
+    n = s["plane"]
+    ln = math.sqrt(sum(c * c for c in n))
+    n = [c / ln for c in n]
+    d = sum((a - b) * c for a, b, c in zip(s["point1"], s["point2"], n))
+    return [a - d * c for a, c in zip(s["point1"], n)]
 
 
 def _read_joints(path):

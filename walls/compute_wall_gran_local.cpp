@@ -18,10 +18,12 @@ ComputeWallGranLocal::ComputeWallGranLocal(LAMMPS *lmp, int narg, char **arg) : 
     error->all(FLERR, "compute " + std::string(id) + " wall/gran/local: expected exactly one argument, the ID of a fix wall/gran "
                                                       "(LIGGGHTS syntax), got " + std::to_string(narg - 3));
   wall_id_ = arg[3];
-  find_wall()->request_records();
+  FixWallGran *w = find_wall();
+  w->request_records();
+  ncols_ = kFixedCols + w->history_size();
   local_flag = 1;
   size_local_rows = 0;
-  size_local_cols = kCols;
+  size_local_cols = ncols_;
   array_local = nullptr;
 }
 
@@ -48,12 +50,12 @@ void ComputeWallGranLocal::compute_local()
 {
   invoked_local = update->ntimestep;
   const auto &rec = wall_->records();
-  data_.assign(rec.size() * kCols, 0.0);
+  data_.assign(rec.size() * ncols_, 0.0);
   rows_.resize(rec.size());
   int n = 0;
   for (const auto &r : rec) {
     if (!(atom->mask[r.atom_index] & groupbit)) continue;
-    double *row = &data_[std::size_t(n) * kCols];
+    double *row = &data_[std::size_t(n) * ncols_];
     row[0] = double(atom->tag[r.atom_index]);
     row[1] = r.mesh + 1;  // 0 for a primitive wall, else the position in 'meshes'
     row[2] = r.element + 1;  // triangle id, 1-based (0 for a primitive wall)
@@ -64,6 +66,7 @@ void ComputeWallGranLocal::compute_local()
       row[8 + k] = r.Ft[k];
       row[11 + k] = r.cp[k];
     }
+    for (int k = kFixedCols; k < ncols_; ++k) row[k] = r.hist[k - kFixedCols];
     rows_[n] = row;
     ++n;
   }

@@ -114,7 +114,8 @@ void FixWallGran::touch(int i, const gran::WallTouch &w, int wall_type, double *
     fpw[k] = f[i][k] - before;
   }
   if (record_) {
-    WallContactRecord r{i, mesh, element, res.delta, res.Fn, {}, {}, {}};
+    WallContactRecord r{i, mesh, element, res.delta, res.Fn, {}, {}, {}, {}};
+    for (int k = 0; k < history_.nvalues(); ++k) r.hist[k] = hist[k];
     for (int k = 0; k < 3; ++k) {
       r.F[k] = res.F[k];
       r.Ft[k] = res.Ft[k];

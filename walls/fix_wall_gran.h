@@ -26,6 +26,7 @@ struct WallContactRecord {
   int element;       // triangle id, -1 for a primitive wall
   double delta, Fn;
   double F[3], Ft[3], cp[3];
+  double hist[6];    // the contact's history after this evaluation (history_size() values)
 };
 
 class FixWallGran : public LAMMPS_NS::Fix {

@@ -37,11 +37,14 @@ void MeshNeighbors::build_bins(const TriangleMesh &m, double reach)
     lo[d] -= reach;
     hi[d] += reach;
   }
-  // about one bin per triangle, never smaller than the reach; grow until the grid is bounded
+  // Bins as small as the reach where affordable: a particle in the bulk, away from the walls,
+  // then finds an empty bin and tests nothing. Target max(4 per triangle, 2^18) bins; never
+  // smaller than the reach; grown until the grid is bounded.
   const double vol = (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
-  double h = std::max(reach, std::cbrt(vol / std::max(1, n)));
+  const double target = std::max(4.0 * n, 262144.0);
+  double h = std::max(reach, std::cbrt(vol / target));
   auto nbins = [&](double hh, int d) { return std::max(1, int(std::ceil((hi[d] - lo[d]) / hh))); };
-  while (double(nbins(h, 0)) * nbins(h, 1) * nbins(h, 2) > 8.0 * n + 64.0) h *= 1.25;
+  while (double(nbins(h, 0)) * nbins(h, 1) * nbins(h, 2) > 2.0 * target + 64.0) h *= 1.25;
   lo_ = lo;
   h_ = h;
   for (int d = 0; d < 3; ++d) nb_[d] = nbins(h, d);

@@ -547,7 +547,9 @@ void FixParmecRigid::refresh_state()
 
 double FixParmecRigid::step_time() const
 {
-  return update->atime + double(update->ntimestep - 1 - update->atimestep) * update->dt;
+  // Parmec's clock: the step times are accumulated (t_{n+1} = t_n + h), which decides on which side of a
+  // TSERIES breakpoint a step falls; kept in the restart file
+  return curtime_;
 }
 
 void FixParmecRigid::setup_pre_exchange()
@@ -568,7 +570,7 @@ void FixParmecRigid::setup_pre_exchange()
     if (clusters_) setup_joints();
     if (!q2_) {
       // corrected start: a prescribed velocity holds from t = 0 (Parmec, Q2: the initial velocity is used)
-      const double t0 = update->atime + double(update->ntimestep - update->atimestep) * update->dt;
+      const double t0 = curtime_;
       for (int i = 0; i < nlocal; i++) {
         auto it = prescriptions_.find(atom->tag[i]);
         if (it == prescriptions_.end() || !(atom->mask[i] & groupbit)) continue;
@@ -699,12 +701,13 @@ void FixParmecRigid::final_integrate()
     put(w, omega[i]);
     store_quat(rot.L, atom->quat[i]);
   }
+  curtime_ += h;
 }
 
 void FixParmecRigid::write_restart(FILE *fp)
 {
   if (comm->me == 0) {
-    std::vector<double> data = {double(started_), double(arms_.size())};
+    std::vector<double> data = {double(started_), double(arms_.size()), curtime_};
     for (const Vec3 &a : arms_) data.insert(data.end(), a.data(), a.data() + 3);
     const int n = int(data.size() * sizeof(double));
     fwrite(&n, sizeof(int), 1, fp);
@@ -721,7 +724,8 @@ void FixParmecRigid::restart(char *buf)
     error->all(FLERR, cmd_ + ": the restart file holds " + std::to_string(na / 2) + " joints, this fix defines " +
                           std::to_string(joint_in_.size()) + " (re-issue the same fix command)");
   arms_.assign(na, Vec3::Zero());
-  for (std::size_t k = 0; k < na; k++) arms_[k] = Vec3(d[2 + 3 * k], d[3 + 3 * k], d[4 + 3 * k]);
+  curtime_ = d[2];
+  for (std::size_t k = 0; k < na; k++) arms_[k] = Vec3(d[3 + 3 * k], d[4 + 3 * k], d[5 + 3 * k]);
   if (clusters_)
     for (std::size_t j = 0; j < joint_in_.size(); j++)
       for (int e = 0; e < 2; e++) clusters_->set_arm(int(j), e, arms_[2 * j + e]);

@@ -80,6 +80,7 @@ class FixParmecRigid : public LAMMPS_NS::Fix {
   bool q1_ = false, q2_ = false, q3_ = false, q20_ = false, qj_ = false;
   bool half_drift_ = true;
   int started_ = 0;  // initial half drift done (restart keeps it)
+  double curtime_ = 0.0;  // Parmec's accumulated time t_n of the next step
   struct JointInput {
     long id = 0;
     LAMMPS_NS::tagint tag1 = 0, tag2 = -1;

@@ -240,6 +240,24 @@ def test_torsion_oracle_cases(tmp_path, name, spec, step, path, quirks):
     assert max(err.values()) <= tol, sorted(err.items(), key=lambda kv: -kv[1])[:4]
 
 
+@pytest.mark.parametrize("case,body", [("analytic_ylim_cycle", "point"), ("spring_general", "cube")])
+def test_prescribed_yield_cycle_exact(tmp_path, case, body):
+    """Spring with unload curve and yield limits driven by a prescribed velocity TSERIES through loading,
+    yield, unloading, re-loading and reversal (1200 steps): Parmec's recurrence (Q2) to 1.7e-16 / 1.5e-15.
+    TSERIES are evaluated at Parmec's accumulated clock (a step at 0.85 - 6e-16 is on the other side of a
+    breakpoint than 0.85)."""
+    import json
+    meta = json.load(open(os.path.join(DATA, case, "meta.json")))
+    spec = dict(body=body, spring=meta["spring"], unload=meta["unload"], ylim=meta["ylim"], vt=meta["vt"],
+                vx=meta["vx"], duration=1.2)
+    ns = run_script(os.path.join(SCRIPTS, "prescribed_spring.py"), [json.dumps(spec), repr(meta["step"])],
+                    quirks=True, workdir=str(tmp_path))
+    rows = oracle(case)
+    err = compare(ns["H"], rows, columns=[c for c in rows[0] if c != "TIME"])
+    assert max(err.values()) <= 1e-14, sorted(err.items(), key=lambda kv: -kv[1])[:3]
+    assert ns["H"]["spr0_SS"] == [r["spr0_SS"] for r in rows]
+
+
 def test_command_line_and_argv(tmp_path):
     script = tmp_path / "argv.py"
     script.write_text("a = ARGV()\nassert a == ['x', '7'], a\nassert ARGV(False)[1:] == a\n"

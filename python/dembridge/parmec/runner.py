@@ -208,9 +208,8 @@ class Runner:
             return name
         self.callbacks_used = True
         pts = []
-        for n, t in enumerate(self._times):
-            y = val(t)
-            pts += [_r(n * self.h), _r(y)]
+        for t in self._times:  # keyed by Parmec's accumulated clock, as fix parmec/rigid evaluates them
+            pts += [_r(t), _r(val(t))]
         out.append(f"tseries {key} " + " ".join(pts))
         return key
 
@@ -225,7 +224,7 @@ class Runner:
         names = []
         for c in range(3):
             names.append(f"{key}{c}")
-            out.append(f"tseries {key}{c} " + " ".join(f"{_r(n * self.h)} {_r(v[c])}" for n, v in enumerate(vals)))
+            out.append(f"tseries {key}{c} " + " ".join(f"{_r(t)} {_r(v[c])}" for t, v in zip(self._times, vals)))
         self.callbacks_used = True
         return names
 

@@ -296,6 +296,15 @@ def test_unspring_chain(tmp_path):
     assert all(v == 0.0 for t, v in zip(H["TIME"], H["sum16_19_SF"]) if round(t / h) > parmec)
 
 
+@pytest.mark.parametrize("quirks", [True, False])
+def test_spring_friction_check_exact(tmp_path, quirks):
+    """Point-to-plane springs with friction 0.3 (kskn 0: sliding; 0.5 fast: slip; 0.5 slow: stick) under
+    constant prescribed velocities (callbacks kept referenced): 200 rows, measured 2.8e-14."""
+    H = run("spring_friction_check.py", quirks=quirks, tmp_path=tmp_path)
+    err = compare(H, oracle("spring_friction_check"))
+    assert max(err.values()) <= 1e-12, sorted(err.items(), key=lambda kv: -kv[1])[:3]
+
+
 def test_command_line_and_argv(tmp_path):
     script = tmp_path / "argv.py"
     script.write_text("a = ARGV()\nassert a == ['x', '7'], a\nassert ARGV(False)[1:] == a\n"

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "mbdyn_test_peer.h"
 
@@ -24,8 +25,14 @@ const char* kUsage =
     "  --steps K (default 10)   --dt DT (default 1e-3)\n"
     "  --mass M  --inertia J  --gravity gx,gy,gz\n"
     "  --x0 x,y,z  --v0 vx,vy,vz   initial state of the next node (repeat per node)\n"
+    "  --spin0 theta,theta_dot  initial spin angle and rate of the next node (repeat per node)\n"
+    "  --tilt T                 constant tilt about x of every node (default 0.3 (i+1) rad)\n"
     "  --offset ox,oy,oz        offset of the next node's point, node frame (repeat per node)\n"
     "  --force fx,fy,fz         constant absolute force on every node (MBDyn `force`)\n"
+    "  --spin-axis ax,ay,az     global axis of every node's spin (default 0,0,1)\n"
+    "  --hinge k,c,cx,cy,cz     revolute hinge at the node: no translation, a torsion spring k and\n"
+    "                           damper c about the spin axis, centre of mass at c (node frame) under\n"
+    "                           --gravity; --inertia is then the moment of inertia about the hinge\n"
     "  --max-iterations N (20)  --derivatives-max-iterations N (10)\n"
     "  --tolerance T (1e-9)  --derivatives-tolerance T (1e-6)  --derivatives-coefficient C (1e-6)\n"
     "  --accept-timeout S  --io-timeout S   (default 30 each; <= 0 waits forever like MBDyn)\n"
@@ -55,6 +62,8 @@ int main(int argc, char** argv) {
   s.io_timeout_s = 30;
   std::string trajectory_file;
   std::vector<V3> x0, v0;
+  std::vector<std::pair<double, double>> spin0;
+  double tilt = -1e300;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -91,6 +100,25 @@ int main(int argc, char** argv) {
     else if (a == "--v0") v0.push_back(parse_v3(value()));
     else if (a == "--offset") s.model.offset.push_back(parse_v3(value()));
     else if (a == "--force") s.model.force = parse_v3(value());
+    else if (a == "--spin0") {
+      double th, thd;
+      char sep;
+      std::istringstream in(value());
+      if (!(in >> th >> sep >> thd) || sep != ',') usage_error("--spin0 expects theta,theta_dot");
+      spin0.emplace_back(th, thd);
+    } else if (a == "--tilt") tilt = std::stod(value());
+    else if (a == "--spin-axis") s.model.spin_axis = parse_v3(value());
+    else if (a == "--hinge") {
+      double h[5];
+      char sep;
+      std::istringstream in(value());
+      for (int k = 0; k < 5; ++k)
+        if (!(in >> h[k]) || (k < 4 && !(in >> sep))) usage_error("--hinge expects k,c,cx,cy,cz");
+      s.model.hinged = true;
+      s.model.torsion_stiffness = h[0];
+      s.model.torsion_damping = h[1];
+      s.model.cm_offset = {h[2], h[3], h[4]};
+    }
     else if (a == "--tolerance") s.tolerance = std::stod(value());
     else if (a == "--derivatives-tolerance") s.derivatives_tolerance = std::stod(value());
     else if (a == "--derivatives-coefficient") s.model.derivatives_coefficient = std::stod(value());
@@ -122,6 +150,11 @@ int main(int argc, char** argv) {
   s.model.initial = default_initial_states(s.shape.nodes);
   for (std::size_t i = 0; i < x0.size() && i < s.model.initial.size(); ++i) s.model.initial[i].x = x0[i];
   for (std::size_t i = 0; i < v0.size() && i < s.model.initial.size(); ++i) s.model.initial[i].v = v0[i];
+  for (std::size_t i = 0; i < spin0.size() && i < s.model.initial.size(); ++i) {
+    s.model.initial[i].theta = spin0[i].first;
+    s.model.initial[i].theta_dot = spin0[i].second;
+  }
+  if (tilt > -1e300) s.model.tilt.assign(s.shape.nodes, tilt);
   const std::string unix_path = s.place.unix_path;
   s.on_listening = [unix_path](int port) {
     // A launcher may wait for this line instead of retrying its connect.

@@ -38,6 +38,14 @@ struct OscillatorParameters {
   std::vector<BodyState> initial;  // one per node (x, v, theta, theta_dot)
   std::vector<double> tilt;        // per node: R = Rz(theta) * Rx(tilt), so all 3 axes vary
   std::vector<V3> offset;          // per node, node frame: MBDyn's `offset` of the point
+  // A hinged body (MBDyn: revolute hinge to the ground + deformable hinge + body with its centre
+  // of mass off the node): the node stays where it is and turns about spin_axis only, under the
+  // peer's moment, a torsion spring -k (theta - theta0) - c theta_dot and the body's weight
+  // (R c) x (m g) (c = cm_offset in the node frame, R the node's orientation).
+  V3 spin_axis{0, 0, 1};           // global; the spin of every node is about this axis
+  bool hinged = false;
+  double torsion_stiffness = 0, torsion_damping = 0;
+  V3 cm_offset{0, 0, 0};
 };
 
 // Loads from the peer on the nodes (global force, z moment about the node).
@@ -67,14 +75,18 @@ class OscillatorModel {
   // Kinematics of node i's point (global frame) for the wire, at its offset (spec §4.3):
   // x = x_n + R o, v = v_n + w x R o, a = a_n + wdot x R o + w x (w x R o); R, w, wdot = node's.
   NodeState point_of(std::size_t i, const BodyState& b, std::uint32_t label) const;
-  // z moment on the node from a load (f, m) at the point: m + (R o) x f, with R o taken at the
-  // pose b the load was computed for (spec §4.3).
+  // Moment about the spin axis on the node from a load (f, m) at the point: m + (R o) x f, with
+  // R o taken at the pose b the load was computed for (spec §4.3).
   double node_moment_z(std::size_t i, const BodyState& b, const V3& f, const V3& m) const;
 
  private:
   V3 total_force(std::size_t i, const NodeLoads& loads) const;
+  // Moment about the spin axis of the spring, damper and weight of node i at (theta, theta_dot).
+  double internal_moment(std::size_t i, double theta, double theta_dot) const;
+  Mat3 orientation(std::size_t i, double theta) const;
   OscillatorParameters p_;
   std::vector<BodyState> state_;
+  std::vector<double> theta0_;  // the torsion spring's rest angle: the initial one
 };
 
 }  // namespace dembridge::mbdyn::testpeer

@@ -125,6 +125,11 @@ FixParmecRigid::FixParmecRigid(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, nar
       fprintf(joint_fp_, "\n");
     }
   }
+  resolve_all();
+}
+
+void FixParmecRigid::resolve_all()
+{
   for (auto &g : gravity_) resolve(g, "gravity");
   for (auto &d : damp_lin_) resolve(d, "damping linear");
   for (auto &d : damp_ang_) resolve(d, "damping angular");
@@ -133,6 +138,23 @@ FixParmecRigid::FixParmecRigid(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, nar
       resolve(p.second.l[c], "prescribe " + std::to_string(p.first) + " linear");
       resolve(p.second.a[c], "prescribe " + std::to_string(p.first) + " angular");
     }
+}
+
+int FixParmecRigid::modify_param(int narg, char **arg)
+{
+  // between runs (Parmec: commands between DEM calls): new or replaced tseries, gravity, damping and
+  // prescriptions; joints, restraints and the inertia stay as defined
+  std::vector<std::string> tok(arg, arg + narg);
+  const std::string &kw = tok[0];
+  if (kw != "tseries" && kw != "gravity" && kw != "damping" && kw != "prescribe" && kw != "file") return 0;
+  for (const auto &t : tok)
+    if (t == "joint" || t == "restrain" || t == "inertia" || t == "start")
+      error->all(FLERR, cmd_ + ": fix_modify: '" + t + "' cannot change after the fix is defined");
+  redefine_ = true;
+  parse(tok, "fix_modify");
+  redefine_ = false;
+  resolve_all();
+  return narg;
 }
 
 FixParmecRigid::~FixParmecRigid()
@@ -177,7 +199,7 @@ void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::strin
       need(1, "an ID and values");
       const std::string sid = tok[i + 1];
       if (is_number(sid)) error->all(FLERR, at + "tseries ID '" + sid + "' must not be a number");
-      if (tseries_.count(sid)) error->all(FLERR, at + "tseries " + sid + ": ID defined twice");
+      if (tseries_.count(sid) && !redefine_) error->all(FLERR, at + "tseries " + sid + ": ID defined twice");
       std::vector<double> tv;
       i += 2;
       double v;
@@ -186,10 +208,11 @@ void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::strin
         i++;
       }
       try {
+        // assignment in place keeps the addresses the Series hold (std::map nodes do not move)
         if (tv.size() == 1)
-          tseries_.emplace(sid, sp::TimeSeries::constant(tv[0]));
+          tseries_[sid] = sp::TimeSeries::constant(tv[0]);
         else
-          tseries_.emplace(sid, sp::TimeSeries::from_pairs(tv));
+          tseries_[sid] = sp::TimeSeries::from_pairs(tv);
       } catch (std::invalid_argument &e) {
         error->all(FLERR, at + "tseries " + sid + ": " + e.what() +
                               " (expected one value, or t1 v1 t2 v2 ... with t strictly increasing)");
@@ -236,7 +259,8 @@ void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::strin
     } else if (kw == "prescribe") {
       need(1, "an atom ID");
       const tagint tag = tag_of(tok[i + 1], "prescribe");
-      if (prescriptions_.count(tag)) error->all(FLERR, at + "prescribe: atom " + tok[i + 1] + " prescribed twice");
+      if (prescriptions_.count(tag) && !redefine_)
+        error->all(FLERR, at + "prescribe: atom " + tok[i + 1] + " prescribed twice");
       Prescription p;
       i += 2;
       while (i < tok.size() && (tok[i] == "linear" || tok[i] == "angular")) {
@@ -566,23 +590,23 @@ void FixParmecRigid::setup_pre_exchange()
     store(L, L_[i]);
     put(L.transpose() * vec(atom->omega[i]), W_[i]);
   }
-  if (!started_) {
-    if (clusters_) setup_joints();
-    if (!q2_) {
-      // corrected start: a prescribed velocity holds from t = 0 (Parmec, Q2: the initial velocity is used)
-      const double t0 = curtime_;
-      for (int i = 0; i < nlocal; i++) {
-        auto it = prescriptions_.find(atom->tag[i]);
-        if (it == prescriptions_.end() || !(atom->mask[i] & groupbit)) continue;
-        const Prescription &p = it->second;
-        if (p.lin && !p.lin_acc)
-          for (int c = 0; c < 3; c++) atom->v[i][c] = eval(p.l[c], t0);
-        if (p.ang && !p.ang_acc) {
-          for (int c = 0; c < 3; c++) atom->omega[i][c] = eval(p.a[c], t0);
-          put(load(L_[i]).transpose() * vec(atom->omega[i]), W_[i]);
-        }
+  if (!started_ && clusters_) setup_joints();
+  if (!q2_) {
+    // corrected: a prescribed velocity holds from the start of every run (Parmec, Q2: the first step of a
+    // DEM call uses the velocity the particle has)
+    for (int i = 0; i < nlocal; i++) {
+      auto it = prescriptions_.find(atom->tag[i]);
+      if (it == prescriptions_.end() || !(atom->mask[i] & groupbit)) continue;
+      const Prescription &p = it->second;
+      if (p.lin && !p.lin_acc)
+        for (int c = 0; c < 3; c++) atom->v[i][c] = eval(p.l[c], curtime_);
+      if (p.ang && !p.ang_acc) {
+        for (int c = 0; c < 3; c++) atom->omega[i][c] = eval(p.a[c], curtime_);
+        put(load(L_[i]).transpose() * vec(atom->omega[i]), W_[i]);
       }
     }
+  }
+  if (!started_) {
     if (!q20_) restrain_velocities();
     if (half_drift_) half_drift();
     if (q20_) restrain_velocities();

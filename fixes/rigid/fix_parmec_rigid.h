@@ -37,6 +37,7 @@ class FixParmecRigid : public LAMMPS_NS::Fix {
   void write_restart(FILE *fp) override;
   void restart(char *buf) override;
   double compute_array(int i, int j) override;
+  int modify_param(int narg, char **arg) override;
 
  private:
   // A time-dependent scalar: constant, TSERIES (clamped, Parmec's TMS_Value) or equal-style variable.
@@ -60,6 +61,7 @@ class FixParmecRigid : public LAMMPS_NS::Fix {
   void parse(const std::vector<std::string> &tok, const std::string &where);
   Series parse_series(const std::string &word, const std::string &what, const std::string &where);
   void resolve(Series &s, const std::string &what);
+  void resolve_all();
   double eval(const Series &s, double t);
   void restrain_velocities();
   void half_drift();
@@ -81,6 +83,7 @@ class FixParmecRigid : public LAMMPS_NS::Fix {
   bool half_drift_ = true;
   int started_ = 0;  // initial half drift done (restart keeps it)
   double curtime_ = 0.0;  // Parmec's accumulated time t_n of the next step
+  bool redefine_ = false; // fix_modify: tseries and prescriptions may be replaced
   struct JointInput {
     long id = 0;
     LAMMPS_NS::tagint tag1 = 0, tag2 = -1;

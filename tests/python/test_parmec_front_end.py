@@ -305,6 +305,33 @@ def test_spring_friction_check_exact(tmp_path, quirks):
     assert max(err.values()) <= 1e-12, sorted(err.items(), key=lambda kv: -kv[1])[:3]
 
 
+@pytest.mark.parametrize("case", range(12))
+def test_spring_curve_tests(tmp_path, case):
+    """Parmec's spring_curve_tests: a random curve swept by PRESCRIBEd velocities changed between two DEM
+    calls, HISTORY requested after the first. With --parmec-quirks: Parmec's rows to 1.7e-16. Default
+    (no Q2 lag, so the strokes are shifted by the prescribed velocity one step earlier): every output
+    point lies on the input curve, SF = curve(STROKE) with the curve's end segments extended."""
+    d = os.path.join(DATA, "spring_curve_tests")
+    curve = os.path.join(d, f"case{case:02d}_curve.csv")
+    ns = run_script(os.path.join(SCRIPTS, "spring_curve_test.py"), [curve], quirks=True, workdir=str(tmp_path))
+    rows = oracle("spring_curve_tests", f"case{case:02d}_history.csv.gz")
+    err = compare(ns["H"], rows, columns=[c for c in rows[0] if c != "TIME"])
+    assert max(err.values()) <= 1e-15, err
+    pts = [(float(r["stroke"]), float(r["force"])) for r in csv.DictReader(open(curve))]
+
+    def table(x):
+        k = 0
+        while k < len(pts) - 2 and x > pts[k + 1][0]:
+            k += 1
+        (x0, y0), (x1, y1) = pts[k], pts[k + 1]
+        return y0 + (y1 - y0) / (x1 - x0) * (x - x0)
+
+    H = run_script(os.path.join(SCRIPTS, "spring_curve_test.py"), [curve], workdir=str(tmp_path))["H"]
+    scale = max(abs(y) for _, y in pts)
+    assert max(abs(f - table(x)) for x, f in zip(H["spr0_STROKE"], H["spr0_SF"])) <= 1e-14 * scale
+    assert max(H["spr0_STROKE"]) > 0.99 and min(H["spr0_STROKE"]) < -0.97
+
+
 def test_command_line_and_argv(tmp_path):
     script = tmp_path / "argv.py"
     script.write_text("a = ARGV()\nassert a == ['x', '7'], a\nassert ARGV(False)[1:] == a\n"

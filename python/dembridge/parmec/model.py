@@ -91,6 +91,7 @@ class Model:
         self.out_time = 0.0         # Parmec's curtime_output
         self.prefix = None
         self.frozen = False         # LAMMPS deck built: model fixed
+        self.motion_changed = False  # PRESCRIBE/GRAVITY/DAMPING given after a DEM call
 
     def namespace(self):
         names = ["ARGV", "RESET", "TSERIES", "MATERIAL", "SPHERE", "MESH", "ANALYTICAL", "OBSTACLE", "SPRING",
@@ -306,7 +307,7 @@ class Model:
 
     def GRAVITY(self, gx, gy, gz):
         cmd = "GRAVITY"
-        self._modifiable(cmd)
+        self.motion_changed = self.frozen  # allowed between DEM calls (re-sent at the next DEM)
         self.gravity = [self._source(cmd, n, g) for n, g in (("gx", gx), ("gy", gy), ("gz", gz))]
 
     def _triple(self, cmd, name, v):
@@ -318,7 +319,7 @@ class Model:
 
     def DAMPING(self, linear, angular):
         cmd = "DAMPING"
-        self._modifiable(cmd)
+        self.motion_changed = self.frozen  # allowed between DEM calls (re-sent at the next DEM)
         self.damping = (self._triple(cmd, "linear", linear), self._triple(cmd, "angular", angular))
 
     def RESTRAIN(self, parnum, linear=None, angular=None):
@@ -345,7 +346,7 @@ class Model:
 
     def PRESCRIBE(self, parnum, linear=None, angular=None, kind="vv"):
         cmd = "PRESCRIBE"
-        self._modifiable(cmd)
+        self.motion_changed = self.frozen  # allowed between DEM calls (re-sent at the next DEM)
         i = self._particle(cmd, "parnum", parnum)
         if kind not in ("vv", "va", "av", "aa"):
             fail(cmd, f"argument 'kind' must be 'vv', 'va', 'av' or 'aa', got {kind!r}")

@@ -40,7 +40,6 @@ class Runner:
         self.h = h
         self.lmp = new_lammps(comm=self.comm)
         self.lammps_step = 0
-        self.atime, self.atimestep = 0.0, 0
         self.callbacks_used = False
         self._build(critical_only)
 
@@ -228,15 +227,27 @@ class Runner:
         self.callbacks_used = True
         return names
 
-    def _rigid(self):
-        m, out = self.model, []
-        self._defined = set()
+    def _motion(self, out):
+        """GRAVITY, DAMPING and PRESCRIBE definitions; callbacks tabulated at this DEM call's step times."""
+        m = self.model
         if m.gravity:
             out.append("gravity " + " ".join(self._sources(out, f"G{c}", g) for c, g in enumerate(m.gravity)))
         if m.damping:
             lin = self._triple(out, "DL", m.damping[0])
             ang = self._triple(out, "DA", m.damping[1])
             out.append("damping linear " + " ".join(lin) + " angular " + " ".join(ang))
+        for i, p in sorted(m.prescriptions.items()):
+            line = f"prescribe {i + 1}"
+            for part, letter in (("linear", p["kind"][0]), ("angular", p["kind"][1])):
+                if p[part] is not None:
+                    names = self._triple(out, f"P{i}{part[0]}", p[part])
+                    line += f" {part} {letter} " + " ".join(names)
+            out.append(line)
+
+    def _rigid(self):
+        m, out = self.model, []
+        self._defined = set()
+        self._motion(out)
         for i, (lin, ang) in sorted(m.restraints.items()):
             line = f"restrain {i + 1}"
             if lin:
@@ -251,27 +262,27 @@ class Runner:
             out.append(f"joint_output {self.path('joints.csv')}")
         if m.quirks:
             out.append("quirks parmec")
-        for i, p in sorted(m.prescriptions.items()):
-            line = f"prescribe {i + 1}"
-            for part, letter in (("linear", p["kind"][0]), ("angular", p["kind"][1])):
-                if p[part] is not None:
-                    names = self._triple(out, f"P{i}{part[0]}", p[part])
-                    line += f" {part} {letter} " + " ".join(names)
-            out.append(line)
         return "\n".join(out) + "\n"
 
     # ---------------------------------------------------------------------------------------------
     def run(self, duration, h, files, hist, prefix):
         m = self.model
         if h != self.h:
-            if self.callbacks_used:
-                fail("DEM", "a new time step with callbacks (tabulated at the first DEM's steps) is not supported")
-            self.atime += (self.lammps_step - self.atimestep) * self.h
-            self.atimestep = self.lammps_step
             self.h = h
             self.cmd(f"timestep {_r(h)}")
-        elif self.lammps_step > 0 and self.callbacks_used:
-            fail("DEM", "several DEM() calls with callbacks (PRESCRIBE/GRAVITY/DAMPING) are not supported yet")
+        if self.lammps_step > 0 and (self.callbacks_used or m.motion_changed):
+            # commands between DEM calls (PRESCRIBE, GRAVITY, DAMPING) and callbacks re-tabulated for this call
+            times, t, tt = [], m.curtime, 0.0
+            while tt < duration:
+                times.append(t)
+                t += h
+                tt += h
+            self._times = times + [t, t + h]
+            self._defined = set()
+            out = []
+            self._motion(out)
+            self.cmd(f"fix_modify R file {self.write(f'motion_{self.lammps_step}.def', chr(10).join(out) + chr(10))}")
+        m.motion_changed = False
         # Parmec's loop: for (time = 0; time < duration; time += h)
         nsteps, t = 0, 0.0
         while t < duration:

@@ -135,3 +135,28 @@ def test_fix_mbdyn_driven_by_recorded_kinematics_returns_recorded_loads(sockdir,
             worst = max(worst, dev)
             assert dev <= 1e-12, (seq, a, b)
     print(f"{transcript}: {len(answers)} answers of fix mbdyn, worst relative deviation from the recorded loads {worst:.2e}")
+
+
+def test_fix_mbdyn_press_bed_driven_by_recorded_kinematics_returns_recorded_loads(sockdir):
+    """examples/mbdyn/in.press_bed (533 atoms, 10 sub-steps per MBDyn step, 20000 LAMMPS steps)
+    driven by the kinematics the real MBDyn sent: fix mbdyn answers with the recorded loads of all
+    2002 exchanges and ends the run the same way (5 at MBDyn's step 2001)."""
+    import subprocess
+    from dembridge import lmp_executable
+    rows = read_transcript("press_bed_transcript_loose.csv.gz")
+    sock = os.path.join(sockdir, "mbdyn.sock")
+    fake = FakeMbdyn(sock, rows, timeout=300)
+    deck = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples", "mbdyn", "in.press_bed")
+    p = subprocess.run([lmp_executable(), "-in", deck, "-var", "plugin", plugin_path(), "-var", "sock", sock,
+                        "-log", "none", "-nocite", "-screen", "none"], cwd=sockdir, timeout=900,
+                       stdin=subprocess.DEVNULL)
+    answers = fake.join()
+    assert fake.error is None, fake.error
+    assert p.returncode == 0
+    expected = [(seq, cmd, [float(v) for v in vals]) for seq, d, cmd, vals in rows if d == "peer->mbdyn"]
+    assert [(s, c) for s, c, _ in answers] == [(s, c) for s, c, _ in expected]
+    fmax = max(max(abs(v) for v in b) for _, _, b in expected if b)
+    worst = max(max(abs(x - y) for x, y in zip(a, b)) / fmax for (_, _, a), (_, _, b) in zip(answers, expected) if b)
+    print(f"press_bed: {len(answers)} answers of fix mbdyn, worst deviation from the recorded loads {worst:.2e} "
+          f"(relative to the largest load, {fmax:.1f} N)")
+    assert worst <= 1e-12

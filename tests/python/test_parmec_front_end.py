@@ -332,6 +332,25 @@ def test_spring_curve_tests(tmp_path, case):
     assert max(H["spr0_STROKE"]) > 0.99 and min(H["spr0_STROKE"]) < -0.97
 
 
+def test_spring_eqm_check(tmp_path):
+    """Critical-ratio dashpot of an off-centre spring under pure prescribed translation. --parmec-quirks
+    (EQM with Parmec's arm 2X - P, Q8): Parmec's F to 1.1e-14. Default: the dashpot coefficient is
+    2 zeta sqrt(k EQM) with the correct EQM = 250 (closed form m/(1 + m |A x d|^2 / J) for the cube,
+    A = (0, 0.5, 0.5)), i.e. 1581.1 instead of Parmec's 257.3; EQM() returns 250 as Parmec's EQM command."""
+    ns = run_script(os.path.join(SCRIPTS, "spring_eqm_check.py"), [], quirks=True, workdir=str(tmp_path))
+    rows = oracle("spring_eqm_check")
+    err = compare(ns["H"], rows)
+    assert max(err.values()) <= 5e-14, err
+    ns = run_script(os.path.join(SCRIPTS, "spring_eqm_check.py"), [], workdir=str(tmp_path))
+    H = ns["H"]
+    m, J = 1000.0, 1000.0 / 6.0
+    eqm = m / (1.0 + m * 0.5 / J)
+    assert abs(ns["EQM_CORRECT"] - eqm) <= 1e-13 * eqm
+    c = 2 * 0.5 * math.sqrt(1e4 * eqm)
+    for f, sf in list(zip(H["spr0_F"], H["spr0_SF"]))[1:]:
+        assert abs((f - sf) / -0.1 - c) <= 1e-9 * c
+
+
 def test_command_line_and_argv(tmp_path):
     script = tmp_path / "argv.py"
     script.write_text("a = ARGV()\nassert a == ['x', '7'], a\nassert ARGV(False)[1:] == a\n"

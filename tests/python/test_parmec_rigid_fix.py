@@ -5,6 +5,8 @@ continuous run bitwise. Also: joint constraints hold (drift of the joint points 
 import math
 import subprocess
 
+import pytest
+
 from dembridge import lmp_executable, mpiexec, plugin_path
 
 N = 1000
@@ -113,3 +115,62 @@ def test_joint_chain_1000_bodies_rank_invariant_and_restart(tmp_path):
     assert second == res[2][0]
     print(f"[agreement] 1000-body joint chain, 1000 steps: 1/2/4 ranks and restart bitwise equal; "
           f"joint point drift {drift:.3g}")
+
+
+BAD_DECKS = [
+    ("bogus 1", "unknown keyword 'bogus'"),
+    ("restrain 1 linear 1 0", "restrain 1 linear: expected 3, 6 or 9 numbers"),
+    ("restrain 0 linear 1 0 0", "restrain: expected an atom ID"),
+    ("restrain 1 linear 1 0 0 restrain 1 angular 1 0 0", "atom 1 restrained twice"),
+    ("prescribe 1 linear x 0 0 0", "expected kind 'v' (velocity) or 'a' (acceleration)"),
+    ("prescribe 1", "expected 'linear' and/or 'angular'"),
+    ("prescribe 1 linear v 0 0 S", "'S' is neither a number, a v_name variable nor the ID of a 'tseries'"),
+    ("prescribe 1 linear v v_nope 0 0", "variable 'nope' does not exist"),
+    ("prescribe 9 linear v 0 0 0", "prescribe 9: no atom with this ID"),
+    ("gravity 0 0", "'gravity' needs three values"),
+    ("damping linear 1 1 1 angle 0 0 0", "expected 'damping linear D D D angular D D D'"),
+    ("tseries T 0 1 0 2", "tseries T:"),
+    ("tseries 5 0 1", "tseries ID '5' must not be a number"),
+    ("inertia J", "inertia: 'J' is not a per-atom d2_ property with 6 columns"),
+    ("joint 0 1 0 0 0 1", "joint 0: joins atom 1 with itself"),
+    ("joint 0 1 0 0 0 -1 joint 0 2 1 0 0 -1", "joint 0: ID defined twice"),
+    ("joint 0 1 0 0 0 7", "joint atom 7: no atom with this ID"),
+    ("joint 0 1 0 0 0 -1 joint 1 1 1 0 0 -1", "singular joint cluster (joints 0 1)"),
+    ("q1 maybe", "q1: expected 'yes' or 'no'"),
+    ("start later", "start: expected 'parmec' (initial half drift) or 'none'"),
+    ("file /no/such/file", "/no/such/file"),
+]
+
+
+def _bad_deck(tmp, body, extra=()):
+    return ["units si", "atom_style bpm/sphere", "atom_modify map array", "boundary f f f",
+            "region b block -5 5 -5 5 -5 5", "create_box 1 b", "create_atoms 1 single 0 0 0 units box",
+            "create_atoms 1 single 1 0 0 units box", "set group all diameter 0.5 mass 1.0",
+            f"fix R all parmec/rigid {body}", "timestep 0.001"] + list(extra) + ["run 2"]
+
+
+@pytest.mark.parametrize("body,message", BAD_DECKS, ids=[f"rigid_bad{i:02d}" for i in range(len(BAD_DECKS))])
+def test_fix_parmec_rigid_bad_input(tmp_path, body, message):
+    from dembridge import new_lammps
+    lmp = new_lammps()
+    try:
+        with pytest.raises(Exception) as e:
+            for c in _bad_deck(tmp_path, body):
+                lmp.command(c)
+        assert "parmec/rigid" in str(e.value) and message in str(e.value), str(e.value)
+    finally:
+        lmp.close()
+
+
+def test_fix_parmec_rigid_fix_modify_refuses_joints(tmp_path):
+    from dembridge import new_lammps
+    lmp = new_lammps()
+    try:
+        for c in _bad_deck(tmp_path, "gravity 0 0 -1")[:-1] + ["run 1"]:
+            lmp.command(c)
+        lmp.command("fix_modify R gravity 0 0 -2")  # allowed between runs
+        with pytest.raises(Exception) as e:
+            lmp.command("fix_modify R prescribe 1 linear v 0 0 0 joint 0 1 0 0 0 -1")
+        assert "'joint' cannot change after the fix is defined" in str(e.value)
+    finally:
+        lmp.close()

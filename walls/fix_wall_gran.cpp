@@ -86,6 +86,25 @@ void FixWallGran::init()
     error->all(FLERR, m);
   }
   init_meshes();
+  fix_rigid_ = nullptr;  // the first rigid-body fix, as the pair styles
+  for (Fix *f : modify->get_fix_list())
+    if (f->rigid_flag) {
+      fix_rigid_ = f;
+      break;
+    }
+}
+
+void FixWallGran::find_rigid_masses()
+{
+  rigid_body_ = nullptr;
+  rigid_mass_ = nullptr;
+  if (!fix_rigid_) return;
+  int dim;
+  rigid_body_ = static_cast<const int *>(fix_rigid_->extract("body", dim));
+  rigid_mass_ = static_cast<const double *>(fix_rigid_->extract("masstotal", dim));
+  if (!rigid_body_ || !rigid_mass_)
+    error->all(FLERR, me_ + ": the rigid-body fix " + std::string(fix_rigid_->id) +
+                          " does not provide body masses (extract 'body'/'masstotal')");
 }
 
 void FixWallGran::setup(int vflag) { post_force(vflag); }
@@ -94,6 +113,7 @@ void FixWallGran::post_force(int /*vflag*/)
 {
   const bool update_history = !update->setupflag;  // spec §2: no shear update during run setup
   if (record_) records_.clear();
+  find_rigid_masses();
   if (spec_.is_mesh) mesh_pass(update_history);
   else primitive_pass(update_history);
 }
@@ -106,7 +126,8 @@ void FixWallGran::touch(int i, const gran::WallTouch &w, int wall_type, double *
   double **f = atom->f, **torque = atom->torque;
   const gran::SphereView a{atom->x[i], atom->v[i], atom->omega[i], atom->radius[i], atom->rmass[i]};
   gran::ContactResult res;
-  law_.evaluate_wall(a, w, atom->rmass[i], table_.at(atom->type[i], wall_type), hist, update_history, update->dt, res);
+  const double meff = (rigid_body_ && rigid_body_[i] >= 0) ? rigid_mass_[rigid_body_[i]] : atom->rmass[i];
+  law_.evaluate_wall(a, w, meff, table_.at(atom->type[i], wall_type), hist, update_history, update->dt, res);
   for (int k = 0; k < 3; ++k) {
     const double before = f[i][k];
     f[i][k] += res.F[k];

@@ -72,6 +72,10 @@ class FixWallGran : public LAMMPS_NS::Fix {
 
   void init_meshes();
   std::vector<FixMeshSurface *> meshes_;  // looked up again at every init
+  LAMMPS_NS::Fix *fix_rigid_ = nullptr;   // body masses replace particle masses (spec §2)
+  const int *rigid_body_ = nullptr;       // this step's body index per local atom (-1: none)
+  const double *rigid_mass_ = nullptr;    // total mass per body
+  void find_rigid_masses();
   std::vector<unsigned char> kept_;  // per atom slot, this pass
 };
 

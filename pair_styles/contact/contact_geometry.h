@@ -24,6 +24,17 @@ struct ContactGeometry {
   double wr_wall[3]; // walls only: the "relative rotation" cr·ω_i/r (spec liggghts-walls §2)
 };
 
+// vn and the tangential surface velocity vtr from g.vr, g.n, g.del and the spin term wr (spec §4).
+inline void surface_velocity(ContactGeometry &g, const double *wr)
+{
+  g.vn = dot3(g.vr, g.n);
+  double vt[3];
+  for (int k = 0; k < 3; ++k) vt[k] = g.vr[k] - g.vn * g.n[k];
+  g.vtr[0] = vt[0] - (g.del[2] * wr[1] - g.del[1] * wr[2]);
+  g.vtr[1] = vt[1] - (g.del[0] * wr[2] - g.del[2] * wr[0]);
+  g.vtr[2] = vt[2] - (g.del[1] * wr[0] - g.del[0] * wr[1]);
+}
+
 // Returns false (and leaves g partially filled) when the spheres do not overlap (strict <).
 // contact_radius_lever: LIGGGHTS lever arm R - δ/2 (true) or LAMMPS's R (false).
 inline bool make_geometry(const SphereView &a, const SphereView &b, bool contact_radius_lever, ContactGeometry &g)
@@ -38,17 +49,12 @@ inline bool make_geometry(const SphereView &a, const SphereView &b, bool contact
   g.rinv = 1.0 / g.r;
   for (int k = 0; k < 3; ++k) g.n[k] = g.del[k] * g.rinv;
   for (int k = 0; k < 3; ++k) g.vr[k] = a.v[k] - b.v[k];
-  g.vn = dot3(g.vr, g.n);
-  double vt[3];
-  for (int k = 0; k < 3; ++k) vt[k] = g.vr[k] - g.vn * g.n[k];
   g.delta = radsum - g.r;
   g.cri = contact_radius_lever ? a.radius - 0.5 * g.delta : a.radius;
   g.crj = contact_radius_lever ? b.radius - 0.5 * g.delta : b.radius;
   double wr[3];
   for (int k = 0; k < 3; ++k) wr[k] = (g.cri * a.omega[k] + g.crj * b.omega[k]) * g.rinv;
-  g.vtr[0] = vt[0] - (g.del[2] * wr[1] - g.del[1] * wr[2]);
-  g.vtr[1] = vt[1] - (g.del[0] * wr[2] - g.del[2] * wr[0]);
-  g.vtr[2] = vt[2] - (g.del[1] * wr[0] - g.del[0] * wr[1]);
+  surface_velocity(g, wr);
   g.reff = a.radius * b.radius / radsum;
   return true;
 }

@@ -23,17 +23,11 @@ inline void make_wall_geometry(const SphereView &a, const WallTouch &w, ContactG
   g.rinv = 1.0 / g.r;
   for (int k = 0; k < 3; ++k) g.n[k] = g.del[k] * g.rinv;
   for (int k = 0; k < 3; ++k) g.vr[k] = a.v[k] - w.v_wall[k];
-  g.vn = dot3(g.vr, g.n);
-  double vt[3];
-  for (int k = 0; k < 3; ++k) vt[k] = g.vr[k] - g.vn * g.n[k];
   g.delta = a.radius - g.r;         // the overlap every law uses
   g.cri = a.radius - 0.5 * ov;      // lever arm from the overlap handed over
   g.crj = 0.0;
   for (int k = 0; k < 3; ++k) g.wr_wall[k] = g.cri * a.omega[k] * g.rinv;
-  const double *wr = g.wr_wall;
-  g.vtr[0] = vt[0] - (g.del[2] * wr[1] - g.del[1] * wr[2]);
-  g.vtr[1] = vt[1] - (g.del[0] * wr[2] - g.del[2] * wr[0]);
-  g.vtr[2] = vt[2] - (g.del[1] * wr[0] - g.del[0] * wr[1]);
+  surface_velocity(g, g.wr_wall);
   g.reff = a.radius;  // infinite wall radius
 }
 

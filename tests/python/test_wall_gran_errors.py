@@ -2,7 +2,7 @@
 argument and what was expected (issue 10, deliverable 7). One fresh LAMMPS instance per case."""
 import pytest
 
-from dembridge import new_lammps
+from test_bad_input import run_deck  # one fresh LAMMPS per deck, returns the ERROR text
 
 MATERIAL = [
     "fix m1 all property/global youngsModulus peratomtype 5.e7",
@@ -20,18 +20,6 @@ def base(atom_style="sphere", units="si"):
     if atom_style == "sphere":
         lines.append("set group all diameter 0.01 density 2500")
     return lines
-
-
-def run_deck(lines):
-    lmp = new_lammps()
-    try:
-        for line in lines:
-            lmp.command(line)
-        return None
-    except Exception as e:
-        return str(e)
-    finally:
-        lmp.close()
 
 
 def wall(args, extra=()):

@@ -138,15 +138,19 @@ void FixContactHistory::atoms_from_list()
     total += count[a];
     most = std::max(most, count[a]);
   }
-  std::vector<tagint> ptag(total);
-  std::vector<double> pval(total * nv_);
+  // The old runs are not read again (the list-order slots hold the history): reuse the pool's
+  // storage, released when it is more than twice what the contacts present need.
+  if (pool_tag_.capacity() > 2 * total + 1024) {
+    std::vector<tagint>().swap(pool_tag_);
+    std::vector<double>().swap(pool_val_);
+  }
+  pool_tag_.resize(total);
+  pool_val_.resize(total * nv_);
   for_each_contact([&](int a, tagint partner, const double *v, double sign) {
     const std::size_t k = offset_[a] + npartner_[a]++;
-    ptag[k] = partner;
-    for (int m = 0; m < nv_; m++) pval[k * nv_ + m] = sign * v[m];
+    pool_tag_[k] = partner;
+    for (int m = 0; m < nv_; m++) pool_val_[k * nv_ + m] = sign * v[m];
   });
-  pool_tag_.swap(ptag);  // the old pool is freed: capacity follows the contacts present
-  pool_val_.swap(pval);
   set_maxexchange(most);
   atoms_stale_ = false;
 }

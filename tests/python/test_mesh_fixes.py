@@ -297,3 +297,34 @@ def test_linear_variable_and_rotate_variable_follow_their_variables(tmp_path):
     a, b = read_stl_nodes(stl), read_stl_nodes(stl_ref)
     assert max(abs(x - y) for p, q in zip(a, b) for x, y in zip(p, q)) < 1e-15
     assert a != read_stl_nodes(os.path.join(DATA, "paddle.stl"))
+
+
+def test_stress_vector_in_thermo_variables_and_ave_time_carries_the_weight():
+    """A sphere resting on the plate: the force on the mesh from fix ave/time, a variable and
+    thermo equals its weight (closed form m g), the torque about the reference point is r x F."""
+    lines = ["units si", "atom_style sphere", "boundary f f f", "newton off", "comm_modify vel yes",
+             "region box block -0.05 0.05 -0.05 0.05 -0.05 0.05", "create_box 1 box",
+             "create_atoms 1 single 0.004 -0.003 0.005 units box", "set group all diameter 0.01 density 2500",
+             "neighbor 0.001 bin", "neigh_modify delay 0", "timestep 1e-6",
+             "fix m1 all property/global youngsModulus peratomtype 5.e7",
+             "fix m2 all property/global poissonsRatio peratomtype 0.3",
+             "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.3",
+             "fix m4 all property/global coefficientFriction peratomtypepair 1 0.3",
+             "pair_style gran model hertz tangential history", "pair_coeff * *",
+             f"fix cad all mesh/surface/stress file {DATA}/plate.stl type 1 reference_point 0.01 0.0 0.0",
+             "fix walls all wall/gran model hertz tangential history mesh n_meshes 1 meshes cad",
+             "fix integr all nve/sphere", "fix grav all gravity 9.81 vector 0 0 -1",
+             "variable fz equal f_cad[3]", "variable ty equal f_cad[5]",
+             "fix avg all ave/time 1 1000 1000 f_cad[3] v_fz f_cad[5]",
+             "thermo_style custom step f_cad[3] v_fz f_avg[1]", "run 30000"]
+    lmp = run(lines)
+    m = 2500 * 4.0 / 3.0 * math.pi * 0.005 ** 3
+    weight = m * 9.81
+    fz_avg = lmp.extract_fix("avg", 0, 1, 0)
+    assert fz_avg == pytest.approx(-weight, rel=2e-3)           # F on the mesh = -(m g) up to the residual bounce
+    assert lmp.extract_fix("avg", 0, 1, 1) == fz_avg            # the variable is the same number
+    assert lmp.extract_variable("fz") == lmp.extract_fix("cad", 0, 1, 2)
+    # torque about p = (0.01, 0, 0) of a vertical force F_z at (x, y, 0): t_y = -(x - 0.01) F_z
+    x = lmp.numpy.extract_atom("x")[0]
+    assert lmp.extract_fix("cad", 0, 1, 4) == pytest.approx(-(x[0] - 0.01) * lmp.extract_fix("cad", 0, 1, 2), rel=1e-6, abs=1e-12)
+    lmp.close()

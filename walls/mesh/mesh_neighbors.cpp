@@ -99,7 +99,12 @@ void MeshNeighbors::build(const TriangleMesh &m, int n, const double *const *x, 
   double rmax = 0.0;
   for (int i = 0; i < n; ++i)
     if (!skip || !skip[i]) rmax = std::max(rmax, radius[i]);
-  build_bins(m, rmax + s);
+  if (&m != binned_mesh_ || m.geometry_version() != binned_version_ || rmax + s != binned_reach_) {
+    build_bins(m, rmax + s);
+    binned_mesh_ = &m;
+    binned_version_ = m.geometry_version();
+    binned_reach_ = rmax + s;
+  }
   first_.assign(n + 1, 0);
   tri_.clear();
   tests_ = 0;

@@ -14,6 +14,7 @@ namespace dembridge::mesh {
 class MeshNeighbors {
  public:
   // n particles (x[i] = centre, radius[i]); skip[i] != 0 excludes a particle (may be null).
+  // The bins are rebuilt only if the mesh moved or the largest reach changed.
   // s = the extra reach: skin/2 for a static mesh, skin for a moving one (spec §6).
   void build(const TriangleMesh &mesh, int n, const double *const *x, const double *radius,
              const int *skip, double s);
@@ -38,6 +39,11 @@ class MeshNeighbors {
   double h_ = 1.0;
   int nb_[3] = {1, 1, 1};
   std::vector<int> bin_first_, bin_tri_;
+  // the bins are kept while the mesh has not moved and the reach is the same (static meshes:
+  // built once)
+  const TriangleMesh *binned_mesh_ = nullptr;
+  std::uint64_t binned_version_ = 0;
+  double binned_reach_ = -1.0;
   void build_bins(const TriangleMesh &mesh, double reach);
   long bin_of(const Vec3 &p) const;
 };

@@ -232,6 +232,7 @@ Vec3 TriangleMesh::velocity_at(int t, const Vec3 &b) const
 
 void TriangleMesh::translate(const Vec3 &dx)
 {
+  ++version_;
   for (auto &nd : node_)
     for (auto &p : nd) p = add(p, dx);
   for (auto &c : center_) c = add(c, dx);
@@ -240,6 +241,7 @@ void TriangleMesh::translate(const Vec3 &dx)
 
 void TriangleMesh::rotate(double dphi, const Vec3 &axis, const Vec3 &origin)
 {
+  ++version_;
   const Quat q = axis_angle_quat(div_by(axis, norm(axis)), dphi);
   const bool shift = dot(origin, origin) > 0.0;
   auto rot_point = [&](Vec3 &p) {
@@ -307,6 +309,7 @@ std::vector<double> TriangleMesh::save_state() const
 
 void TriangleMesh::restore_state(const std::vector<double> &b)
 {
+  ++version_;
   std::size_t i = 0;
   if (b.size() < 3 || int(b[0]) != size())
     throw MeshError("the restart file holds a mesh with a different number of triangles");

@@ -92,6 +92,9 @@ class TriangleMesh {
   void restore_state(const std::vector<double> &buf);
 
   double memory_bytes() const;
+  // Changes whenever a node moves (translate, rotate, restore_state): cached search structures
+  // compare it to know whether they are stale.
+  std::uint64_t geometry_version() const { return version_; }
 
  private:
   MeshOptions opt_;
@@ -107,6 +110,7 @@ class TriangleMesh {
   std::vector<std::array<Vec3, 3>> vel_;
   std::vector<Vec3> attached_;
   std::vector<Vec3> restored_attached_;  // from restore_state(), for points attached afterwards
+  std::uint64_t version_ = 0;
 
   void validate();
   void compute_geometry(int t);

@@ -117,3 +117,29 @@ TEST(MeshNeighbors, HundredThousandTrianglesWorkAndCostDoesNotScaleWithTriangles
 
 }  // namespace
 }  // namespace dembridge::mesh::test
+
+namespace dembridge::mesh::test {
+namespace {
+
+TEST(MeshNeighbors, BinsFollowTheMeshWhenItMoves)
+{
+  // the bins are cached for a static mesh; after a move the candidates must follow the mesh
+  TriangleMesh m(read_stl(data_path("plate.stl")));
+  std::array<double, 3> q{0.0, 0.001, 0.0031};
+  const double *x = q.data();
+  const double r = 0.003;
+  MeshNeighbors nb;
+  nb.build(m, 1, &x, &r, nullptr, 0.0005);
+  EXPECT_EQ(nb.count(0), 2);
+  nb.build(m, 1, &x, &r, nullptr, 0.0005);  // cached bins, same answer
+  EXPECT_EQ(nb.count(0), 2);
+  m.translate({0.0, 0.0, 0.01});            // the plate moves away
+  nb.build(m, 1, &x, &r, nullptr, 0.0005);
+  EXPECT_EQ(nb.count(0), 0);
+  q[2] = 0.0131;
+  nb.build(m, 1, &x, &r, nullptr, 0.0005);
+  EXPECT_EQ(nb.count(0), 2);
+}
+
+}  // namespace
+}  // namespace dembridge::mesh::test

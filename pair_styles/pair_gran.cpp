@@ -284,6 +284,8 @@ void PairGran::compute(int eflag, int vflag)
   const bool history_update = !update->setupflag;
   const int max_type = table_.max_type();
   const int nv = model_.contact.history_size();
+  const bool stale_springs = model_.contact.stale_springs_until_rebuild;
+  const bool rebuilt = neighbor->ago == 0;
 
   const int inum = list->inum;
   const int *ilist = list->ilist, *numneigh = list->numneigh;
@@ -319,8 +321,11 @@ void PairGran::compute(int eflag, int vflag)
       const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
       const double radsum = radius[i] + radius[j];
       if (dx * dx + dy * dy + dz * dz >= radsum * radsum) {
-        if (touch_i && touch_i[jj]) {  // 2.x and LAMMPS semantics: the springs vanish on separation
-          touch_i[jj] = 0;
+        // 2.x and LAMMPS: the springs vanish on separation. 3.8 clears them only on a neighbour
+        // rebuild step: until then a separated pair keeps them (kept 'touched', so a rebuild
+        // carries them) and a contact resuming meanwhile continues with the old springs.
+        if (touch_i && touch_i[jj] && (!stale_springs || rebuilt)) {
+          touch_i[jj] = 0;  // the fix drops untouched springs at the next neighbour rebuild
           for (int k = 0; k < nv; k++) hist_i[jj * nv + k] = 0.0;
         }
         continue;

@@ -51,10 +51,9 @@ inline void rolling_torque(const ContactConfig &cfg, const ContactGeometry &g, c
     const double d = wroll[0] * n[0] + wroll[1] * n[1] + wroll[2] * n[2];
     for (int k = 0; k < 3; ++k) wt[k] = wroll[k] - n[k] * d;
   }
-  const double r2 = g.reff * g.reff;
-  double kr;
+  double kr;  // left to right, as 3.8 rounds them
   if (cfg.rolling == RollingModel::Epsd) kr = 2.25 * in.kn * in.mu_r * in.mu_r * g.reff * g.reff;
-  else if (cfg.rolling == RollingModel::Epsd2) kr = in.kt * r2;
+  else if (cfg.rolling == RollingModel::Epsd2) kr = in.kt * g.reff * g.reff;
   else kr = in.roll_stiffness * in.kn * in.mu_r * in.mu_r * g.reff * g.reff;
   for (int k = 0; k < 3; ++k) M[k] = history[k] + wt[k] * (dt * kr);
   const double mag = std::sqrt(M[0] * M[0] + M[1] * M[1] + M[2] * M[2]);

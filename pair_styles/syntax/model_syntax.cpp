@@ -158,6 +158,7 @@ ModelDescription parse_liggghts3(const std::string &style, const std::vector<std
   ModelDescription d;
   d.style = style;
   d.dialect = Dialect::Liggghts3x;
+  d.contact.stale_springs_until_rebuild = true;
   d.contact.tangential = TangentialModel::None;  // 3.x: no 'tangential' means no tangential force
   auto unknown = [&](const std::string &w) {
     return SyntaxError("pair_style gran: unknown argument or wrong keyword order: '" + w +

@@ -68,7 +68,17 @@ CONFIGS = {
     "lig_hooke": ("LIGGGHTS 3.8 hooke/stiffness + tangential history", "liggghts", "hooke", False, "lmp_hooke", "lig_hooke"),
     "lig_hertz": ("LIGGGHTS 3.8 hertz/stiffness + tangential history", "liggghts", "hertz", False, "lmp_hertz", "lig_hertz"),
     "lig_hertzmat": ("LIGGGHTS 3.8 hertz (material) + tangential history", "liggghts", "hertzmat", False, "lmp_hertz", "lig_hertzmat"),
+    # issue 12, P1: the other 2.x model and rolling friction + cohesion, each against its 3.8 twin
+    "plg_hooke2xstiff": ("dembridge gran/hooke/history/stiffness, 2.x syntax", "lammps", "hooke2xstiff", True, "lmp_hooke", "lig_hooke"),
+    "plg_hertz2xrc": ("dembridge gran/hertz/history + rolling epsd + cohesion sjkr, 2.x material syntax", "lammps", "hertz2xrc", True,
+                      "lmp_hertz", "lig_hertzmatrc"),
+    "lig_hertzmatrc": ("LIGGGHTS 3.8 hertz (material) + epsd + sjkr (tangential_reduce on)", "liggghts", "hertzmatrc", False,
+                       "lmp_hertz", "lig_hertzmatrc"),
 }
+# P1 targets (<= 0.60x LIGGGHTS 3.8) and P2 targets (<= 0.90x built-in)
+P1_KEYS = ["plg_hertz2x", "plg_hooke2xstiff", "plg_hertz2xrc"]
+P2_KEYS = ["plg_hooke", "plg_hertz"]
+MEM = {}  # key -> (memory per rank [MB], neighbour-list entries) of the serial callgrind run
 # plugin vs built-in pairs whose thermo output must be identical
 SAME_PHYSICS = [("plg_hooke", "lmp_hooke"), ("plg_hertz", "lmp_hertz")]
 
@@ -181,6 +191,15 @@ def parse_log(path):
     return loop, cpu, rows, err
 
 
+def parse_memory(path):
+    """(memory per rank in MB as the code reports it, neighbour-list entries) of one serial run."""
+    text = open(path, errors="replace").read()
+    m = re.search(r"memory allocation \(min/avg/max\) = [0-9.]+ \| ([0-9.]+)", text) or \
+        re.search(r"Memory usage per processor = ([0-9.]+)", text)
+    n = re.search(r"^Total # of neighbors = (\d+)", text, re.M)
+    return (float(m.group(1)) if m else math.nan, int(n.group(1)) if n else 0)
+
+
 # ----------------------------------------------------------------------------------------------
 # (a) callgrind
 
@@ -196,6 +215,8 @@ def callgrind_one(key, nsteps, plugin, raw_lmp, outdir):
            f"--callgrind-out-file={cg_out}"] + deck_cmd(key, nsteps, log, plugin, raw_lmp)
     rc, elapsed, _ = run(cmd, screen, env=env)
     ir = math.nan
+    if os.path.exists(log):
+        MEM[key] = parse_memory(log)
     if rc == 0 and os.path.exists(cg_out):
         for line in open(cg_out):
             if line.startswith(("summary:", "totals:")):
@@ -366,17 +387,40 @@ def targets(rows):
     out = []
     def verdict(v, lim):
         return "n/a" if math.isnan(v) else ("met" if v <= lim else "NOT met")
-    for k in ("plg_hooke", "plg_hertz"):
+    for k in P2_KEYS:
         if k in rows:
             d = rows[k]
             for what, v in (("Ir", d["ir_vs_bi"]), ("wall 1 rank", d["wall1_vs_bi"]), ("wall 2 ranks", d["wall2_vs_bi"]),
                             ("loop CPU 1 rank", d["cpu1_vs_bi"])):
                 out.append(f"{k} vs built-in, {what}: {fnum(v, '.3f')}{'' if math.isnan(v) else 'x'} (target <= 0.90x): {verdict(v, 0.90)}")
-    if "plg_hertz2x" in rows:
-        d = rows["plg_hertz2x"]
+    for k in P1_KEYS:
+        if k not in rows:
+            continue
+        d, ref = rows[k], CONFIGS[k][5]
         for what, v in (("Ir", d["ir_vs_lig"]), ("wall 1 rank", d["wall1_vs_lig"]), ("wall 2 ranks", d["wall2_vs_lig"]),
                         ("loop CPU 1 rank", d["cpu1_vs_lig"])):
-            out.append(f"plg_hertz2x vs LIGGGHTS hertz material, {what}: {fnum(v, '.3f')}{'' if math.isnan(v) else 'x'} (target <= 0.60x): {verdict(v, 0.60)}")
+            out.append(f"{k} vs {ref}, {what}: {fnum(v, '.3f')}{'' if math.isnan(v) else 'x'} (target <= 0.60x): {verdict(v, 0.60)}")
+    for k in rows:  # P3: 1 -> 2 ranks, every LAMMPS configuration beside its built-in (same rounds)
+        if CONFIGS[k][1] == "lammps" and not math.isnan(rows[k]["speedup"]):
+            out.append(f"{k} speed-up 1->2 ranks: {rows[k]['speedup']:.2f} (target >= 1.85): {verdict(1.85 / rows[k]['speedup'], 1.0)}")
+    return out
+
+
+def memory_lines(keys):
+    """History memory: the plugin's per-rank memory minus the same deck's built-in (only the pair
+    style and its history storage differ), per neighbour-list entry and per atom; LIGGGHTS total."""
+    out = []
+    for k in keys:
+        if k not in MEM:
+            continue
+        mb, nn = MEM[k]
+        line = f"{k}: {mb:.2f} MB per rank, {nn} neighbour-list entries"
+        bref = CONFIGS[k][4]
+        if k != bref and CONFIGS[k][1] == "lammps" and bref in MEM:
+            extra = (mb - MEM[bref][0]) * 1024 * 1024
+            line += (f"; vs {bref}: {extra / 1024 / 1024:+.2f} MB = {extra / max(nn, 1):+.1f} bytes per neighbour entry, "
+                     f"{extra / NATOMS:+.1f} bytes per atom")
+        out.append(line)
     return out
 
 
@@ -460,6 +504,9 @@ def main():
         "",
         "Targets of the later performance issue (cost ratios):",
     ] + [f"- {t}" for t in targets(rows)] + [
+        "",
+        "Memory (serial callgrind runs; LAMMPS 'Per MPI rank memory allocation' avg, LIGGGHTS 'Memory usage per processor'):",
+    ] + [f"- {t}" for t in memory_lines(keys)] + [
         "",
         "Median over rounds of the paired (same round) 1-rank wall ratio vs built-in / vs LIGGGHTS: " +
         ", ".join(f"{k} {fnum(rows[k]['wall1_vs_bi_paired_median'], '.3f')} / {fnum(rows[k]['wall1_vs_lig_paired_median'], '.3f')}"

@@ -342,6 +342,8 @@ int FixContactHistory::pack_restart(int i, double *buf)
 
 void FixContactHistory::unpack_restart(int nlocal, int nth)
 {
+  // a placeholder (pair_style given again after read_restart) leaves the data to the real fix
+  if (nv_ == 0) return;
   double **extra = atom->extra;
   int m = 0;
   for (int k = 0; k < nth; k++) m += static_cast<int>(extra[nlocal][m]);

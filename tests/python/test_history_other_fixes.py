@@ -199,3 +199,20 @@ def test_hybrid_restart_equals_split_run_bitwise(tmp_path):
     a = (out / "final.all.dump").read_text().split("ITEM: ATOMS")[1]
     b = (out / "final.second.dump").read_text().split("ITEM: ATOMS")[1]
     assert a == b, "per-atom state after the restart differs from the split run"
+
+
+def test_pair_style_redefined_after_read_restart(tmp_path):
+    """The pair_style line given again after read_restart (same settings) reserves the history
+    fix's place before the restart's per-atom data is handed over: the run continues bitwise as
+    the split run (this crashed between issue 15's first landing and this test)."""
+    text = deck(SETTLE).replace("plugin load ${plugin}\n", "")
+    text = text.replace("read_restart    ${out}/state.restart\n", "read_restart    ${out}/state.restart\n"
+                        "pair_style ${style} tangential_damping ${tdamp} rolling_friction ${rolling} cohesion ${cohesion}\n"
+                        "pair_coeff * *\n")
+    out = tmp_path / "r"
+    run(str(tmp_path), text, "split", True, 1, [("out", out), ("steps", 1000), ("split", "yes")])
+    run(str(tmp_path), text, "first", True, 1, [("out", out), ("steps", 500), ("phase", "first")])
+    run(str(tmp_path), text, "second", True, 1, [("out", out), ("steps", 500), ("phase", "second")])
+    a = (out / "final.all.dump").read_text().split("ITEM: ATOMS")[1]
+    b = (out / "final.second.dump").read_text().split("ITEM: ATOMS")[1]
+    assert a == b, "per-atom state after the restart differs from the split run"

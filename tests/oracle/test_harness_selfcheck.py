@@ -158,7 +158,7 @@ def test_compare_zero_reference_uses_frame_scale():
 
 
 # ------------------------------------------------------------------------------------------ (c)
-# written by hand from the table of <shared>/oracle/liggghts/README.md (not from the converter)
+# written by hand from the table of tests/data/liggghts/README.md (not from the converter)
 EXPECTED_2X = {
     "hooke_oblique_nohistory": "gran/hooke",
     "multipair_hooke_nohist": "gran/hooke",

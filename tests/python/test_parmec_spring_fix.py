@@ -7,9 +7,9 @@ import subprocess
 
 import pytest
 
-from dembridge import lmp_executable, mpiexec, new_lammps, plugin_path, shared_dir
+from dembridge import lmp_executable, mpiexec, new_lammps, plugin_path
 
-ORACLE = os.path.join(shared_dir(), "oracle", "parmec")
+ORACLE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "parmec-kernels")  # copied from shared/oracle/parmec (tests/data/parmec-kernels/README.md)
 COLS = ["id", "LENGTH", "STROKE", "F", "SF", "FF", "SS"]
 
 

@@ -16,9 +16,9 @@ import os
 
 import pytest
 
-from dembridge import new_lammps, shared_dir
+from dembridge import new_lammps
 
-ORACLE = os.path.join(shared_dir(), "oracle", "parmec")
+ORACLE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "parmec-kernels")  # copied from shared/oracle/parmec (tests/data/parmec-kernels/README.md)
 R_CUBE = math.sqrt(5.0 / 12.0)  # sphere with the unit cube's inertia (m = 1000, J = 1000/6)
 K7 = "table K -1 -1e7 1 1e7"
 D8 = "table D -1 -8e5 1 8e5"

@@ -10,9 +10,9 @@ import subprocess
 
 import pytest
 
-from dembridge import lmp_executable, mpiexec, new_lammps, plugin_path, shared_dir
+from dembridge import lmp_executable, mpiexec, new_lammps, plugin_path
 
-ORACLE = os.path.join(shared_dir(), "oracle", "parmec")
+ORACLE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "parmec-kernels")  # copied from shared/oracle/parmec (tests/data/parmec-kernels/README.md)
 FIXED = os.path.join(ORACLE, "fixedQ1Q3")
 COLS = ["id", "ROLL", "PITCH", "YAW", "TRQTOT_R", "TRQTOT_P", "TRQTOT_Y", "TRQSPR_R", "TRQSPR_P", "TRQSPR_Y",
         "XDIR_X", "XDIR_Y", "XDIR_Z", "ZDIR_X", "ZDIR_Y", "ZDIR_Z"]

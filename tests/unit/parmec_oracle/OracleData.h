@@ -1,4 +1,4 @@
-// Reading the Parmec oracle (shared/oracle/parmec): CSV histories (plain or .gz) and meta.json numbers.
+// Reading the Parmec oracle (tests/data/parmec-kernels): CSV histories (plain or .gz) and meta.json numbers.
 #pragma once
 
 #include <map>

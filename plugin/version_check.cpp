@@ -16,4 +16,19 @@ VersionVerdict check_host_version(int built, int host, const char *host_string, 
                  "(cmake -DLAMMPS_DIR=...) or set DEMBRIDGE_ALLOW_VERSION_MISMATCH=1 at your own risk."};
 }
 
+std::string lammps_date(int num_ver)
+{
+  static const char *const months[] = {"Jan", "Feb", "Mar", "Apr", "May", "Jun",
+                                       "Jul", "Aug", "Sep", "Oct", "Nov", "Dec"};
+  const int day = num_ver % 100, month = (num_ver / 100) % 100, year = num_ver / 10000;
+  if (month < 1 || month > 12 || day < 1 || day > 31) return std::to_string(num_ver);
+  return std::to_string(day) + " " + months[month - 1] + " " + std::to_string(year);
+}
+
+std::string load_banner(const char *dembridge_version, int built)
+{
+  return std::string("dembridge ") + dembridge_version + " loaded (built for LAMMPS " + lammps_date(built) + ", " +
+         std::to_string(built) + ")";
+}
+
 }  // namespace dembridge

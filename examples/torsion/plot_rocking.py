@@ -1,19 +1,20 @@
 """Plot of in.rocking_block: tilt components and the cone limit. Usage: python plot_rocking.py
 (reads torsion_history.csv, writes rocking_block.png)."""
-import csv
 import math
+import os
+import sys
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+from dembridge import plotting, read_history_csv  # noqa: E402
 
-rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(open("torsion_history.csv"))]
-t = [r["TIME"] for r in rows]
-roll = [r["trq1_ROLL"] for r in rows]
-pitch = [r["trq1_PITCH"] for r in rows]
-phi = [math.hypot(a, b) for a, b in zip(roll, pitch)]
-trq = [math.hypot(r["trq1_TRQTOT_R"], r["trq1_TRQTOT_P"]) for r in rows]
+plt = plotting.pyplot()
+h = read_history_csv("torsion_history.csv")
+t, roll, pitch = h["TIME"], h["trq1_ROLL"], h["trq1_PITCH"]
+phi = np.hypot(roll, pitch)
+trq = np.hypot(h["trq1_TRQTOT_R"], h["trq1_TRQTOT_P"])
+rows = t
 
 fig, ax = plt.subplots(1, 3, figsize=(15, 4.5))
 ax[0].plot(t, roll, lw=0.8, label="ROLL")

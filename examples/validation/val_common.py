@@ -34,10 +34,8 @@ def out_path(name):
 
 
 def pyplot():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
+    from dembridge.plotting import pyplot as _pyplot  # shared by the examples
+    return _pyplot()
 
 
 # ---------------------------------------------------------------------------------------------

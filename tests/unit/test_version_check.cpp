@@ -34,3 +34,11 @@ TEST(VersionCheck, OverrideSetToZeroOrEmptyDoesNotCount)
   EXPECT_FALSE(check_host_version(20250722, 20230802, "2 Aug 2023", "0").accept);
   EXPECT_FALSE(check_host_version(20250722, 20230802, "2 Aug 2023", "").accept);
 }
+
+TEST(VersionCheck, LoadBannerNamesBothVersions)
+{
+  EXPECT_EQ(dembridge::lammps_date(20250722), "22 Jul 2025");
+  EXPECT_EQ(dembridge::lammps_date(20230802), "2 Aug 2023");
+  EXPECT_EQ(dembridge::lammps_date(20251399), "20251399");  // not a date: printed as is
+  EXPECT_EQ(dembridge::load_banner("0.2.0", 20250722), "dembridge 0.2.0 loaded (built for LAMMPS 22 Jul 2025, 20250722)");
+}

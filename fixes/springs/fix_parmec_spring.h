@@ -4,13 +4,15 @@
 // Design in one paragraph: the spring definitions (atom tags, reference geometry, law with pointers
 // into this fix's table/TSERIES registry) are constant and replicated on every rank, indexed by the
 // spring's position in the definition list. The evolving state of a spring (SpringState, 20 doubles,
-// plus the force it applied in its last committed step) lives in a per-atom list of part1's owner and
-// migrates/restarts with that atom. Each step the owner of part1 evaluates the spring with part2 as a
-// local or ghost atom (closest image) and applies both forces; contributions to ghost atoms are summed
-// back with comm->reverse_comm(this), so newton on/off does not matter.
+// plus the force it applied in its last committed step) is a record of part1's atom in the per-atom
+// state layer (fixes/state, doc/per_atom_state.md), which moves it with that atom (exchange, sort,
+// restart). Each step the owner of part1 evaluates the spring with part2 as a local or ghost atom
+// (closest image) and applies both forces; contributions to ghost atoms are summed back on their owners
+// in spring order by the layer, so newton on/off and the decomposition do not matter.
 #pragma once
 
-#include "fix.h"
+#include "definition_reader.h"
+#include "per_atom_state_fix.h"
 
 #include "SpringGeometry.h"
 #include "SpringLaw.h"
@@ -18,7 +20,6 @@
 #include "SpringTable.h"
 #include "TimeSeries.h"
 
-#include <map>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -26,34 +27,17 @@
 
 namespace dembridge {
 
-class FixParmecSpring : public LAMMPS_NS::Fix {
+class FixParmecSpring : public state::PerAtomStateFix {
  public:
   FixParmecSpring(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
-  ~FixParmecSpring() override;
-  int setmask() override;
   void init() override;
   void setup(int) override;
   void min_setup(int) override;
-  void post_force(int) override;
-  void min_post_force(int) override;
-  void end_of_step() override;
 
-  void grow_arrays(int nmax) override;
-  void copy_arrays(int i, int j, int delflag) override;
-  void set_arrays(int i) override;
-  int pack_exchange(int i, double *buf) override;
-  int unpack_exchange(int nlocal, double *buf) override;
-  int pack_restart(int i, double *buf) override;
-  void unpack_restart(int nlocal, int nth) override;
-  int size_restart(int i) override;
-  int maxsize_restart() override;
   void write_restart(FILE *fp) override;
   void restart(char *buf) override;
 
   double compute_vector(int n) override;
-  int pack_reverse_comm(int n, int first, double *buf) override;
-  void unpack_reverse_comm(int n, int *list, double *buf) override;
-  double memory_usage() override;
 
   // Slot of one spring in its part1 atom's list: spring index, SpringState (20), last committed force
   // on part1 (3), flag "force valid" (1).
@@ -102,61 +86,31 @@ class FixParmecSpring : public LAMMPS_NS::Fix {
   struct LawNames {
     std::string spring, dashpot, unload, offset;
   };
+  state::DefinitionReader reader_;  // options, tables and TSERIES (owned for the fix's lifetime)
   std::vector<LawNames> names_;
   std::unordered_set<long> spring_ids_;
-  std::string cmd_;  // "fix ID parmec/spring" for messages
-  std::map<std::string, springs::SpringTable> tables_;
-  std::map<std::string, springs::TimeSeries> tseries_;
   std::vector<SpringDef> defs_;
-  std::unordered_map<LAMMPS_NS::tagint, std::vector<int>> by_part1_;  // tag -> spring indices
-  int max_per_atom_ = 0;
-  bool has_pairs_ = false;     // some spring connects two atoms
-  bool parmec_start_ = false;  // no spring force before the first committed step
   bool q8_arm_ = false;        // 'eqm parmec': ratio dashpots use Parmec's arm 2X - P (quirk Q8)
   std::unordered_map<int, const springs::SpringTable *> unspring_unload_;
-  // spring index -> (local atom, slot) of the states owned here; rebuilt when atoms moved/sorted
-  std::vector<std::pair<int, int>> where_;
-  bool where_dirty_ = true;
+  mutable state::RecordIndex where_;  // spring index -> (local atom, record) of the states owned here
   std::unordered_map<long, int> id_index_;  // user spring ID -> spring index
   const double *owned_slot(int spring) const;
   double spring_eqm(const SpringDef &d, int i, int k, const springs::Vec3 &dir, bool q8) const;
-  bool geometry_from_restart_ = false;
   double cutghost_ = 0.0;
 
-  std::vector<std::vector<double>> slots_;  // per atom
-  // Per atom (local and ghost) up to kmax_ contributions [spring index, force(3), torque(3)], summed
-  // on the owner in spring order after the reverse communication (decomposition-independent sums).
-  static constexpr int kMaxOrdered = 64;
-  int kmax_ = 1;
-  bool ordered_ = true;
-  std::vector<int> ccount_;
-  std::vector<double> cbuf_;
-  int nmax_ = 0;
-  int nlocal_rows_ = 0;
-  int maxlocal_ = 0;
 
   // parsing
-  void parse(std::vector<std::string> tok, const std::string &where);
-  void parse_spring(const std::vector<std::string> &tok, std::size_t &i, const std::string &where);
-  double number(const std::string &s, const std::string &what, const std::string &where);
-  void read_file(const std::string &path);
+  bool parse_spring(const std::vector<std::string> &tok, std::size_t &i, const std::string &where);
   void resolve();
-  void reference_geometry();
+  void reference_geometry(const std::vector<state::AtomSnapshot> &snap);
   void initial_states();
 
-  enum class Mode { Commit, Trial, Setup };
-  void evaluate(Mode mode);
-  void grow_local(int n);
-  // 'history FILE N SPRID ...': CSV of chosen springs every N steps (rank 0 writes)
-  std::string hist_file_;
-  int hist_every_ = 0;
-  std::vector<long> hist_ids_;
-  std::unordered_map<int, int> hist_pos_;  // spring index -> column group
-  FILE *hist_fp_ = nullptr;
+  void evaluate(Mode mode) override;
+  void history_values(const double *rec, double *out) const override;
   void critical();
   double crit_[2] = {0.0, 0.0};
   LAMMPS_NS::bigint crit_step_ = -1;
-  void contribute(int i, int idx, const springs::Vec3 &F, const springs::Vec3 &T, double sign);
+  void contribute_spring(int i, int idx, const springs::Vec3 &F, const springs::Vec3 &T, double sign);
 };
 
 }  // namespace dembridge

@@ -1,6 +1,5 @@
 // fix parmec/unspring: LAMMPS glue for the UNSPRING kernels. See fix_parmec_unspring.h for the design.
 #include "fix_parmec_unspring.h"
-#include "definition_file.h"
 
 #include "fix_parmec_spring.h"
 #include "style_registry.h"
@@ -29,19 +28,7 @@ namespace dembridge {
 
 namespace {
 
-bool parse_double(const std::string &s, double &v)
-{
-  if (s.empty()) return false;
-  char *end = nullptr;
-  v = std::strtod(s.c_str(), &end);
-  return end && *end == '\0';
-}
-
-bool is_number(const std::string &s)
-{
-  double v;
-  return parse_double(s, v);
-}
+using state::is_number;
 
 FixParmecSpring::Entity spring_entity(ts::Entity e)
 {
@@ -55,9 +42,10 @@ FixParmecSpring::Entity spring_entity(ts::Entity e)
 
 }  // namespace
 
-FixParmecUnspring::FixParmecUnspring(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
+FixParmecUnspring::FixParmecUnspring(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), cmd_(std::string("fix ") + arg[0] + " parmec/unspring"),
+    reader_(lmp, cmd_, state::DefinitionReader::kFile, "rule", "tseries, rule or file")
 {
-  cmd_ = std::string("fix ") + arg[0] + " parmec/unspring";
   if (narg < 5)
     error->all(FLERR, cmd_ + ": expected the ID of a fix parmec/spring, then definitions (tseries, rule, file)");
   spring_fix_id_ = arg[3];
@@ -68,7 +56,10 @@ FixParmecUnspring::FixParmecUnspring(LAMMPS *lmp, int narg, char **arg) : Fix(lm
   keep_alive.push_back(tseries_);
   FixParmecSpring *sf = springs();
 
-  parse(std::vector<std::string>(arg + 4, arg + narg), "command line");
+  reader_.parse(std::vector<std::string>(arg + 4, arg + narg), "command line",
+                [this](const std::vector<std::string> &tok, std::size_t &i, const std::string &where) {
+                  return parse_definition(tok, i, where);
+                });
   if (rules_.empty()) error->all(FLERR, cmd_ + ": no rule defined (expected at least one 'rule' definition)");
 
   for (std::size_t r = 0; r < rules_.size(); r++) {
@@ -126,107 +117,86 @@ FixParmecSpring *FixParmecUnspring::springs()
 // ---------------------------------------------------------------------------------------------------
 // parsing
 
-void FixParmecUnspring::parse(const std::vector<std::string> &tok, const std::string &where)
+bool FixParmecUnspring::parse_definition(const std::vector<std::string> &tok, std::size_t &i, const std::string &where)
 {
   const std::string ctx = cmd_ + " (" + where + ")";
-  std::size_t i = 0;
-  auto number = [&](const std::string &s, const std::string &what) {
-    double v;
-    if (!parse_double(s, v) || !std::isfinite(v))
-      error->all(FLERR, ctx + ": " + what + ": expected a finite number, got '" + s + "'");
-    return v;
-  };
-  auto integer = [&](const std::string &s, const std::string &what) -> long {
-    char *end = nullptr;
-    const long v = std::strtol(s.c_str(), &end, 10);
-    if (s.empty() || *end != '\0') error->all(FLERR, ctx + ": " + what + ": expected an integer, got '" + s + "'");
-    return v;
-  };
+  auto number = [&](const std::string &s, const std::string &what) { return reader_.number(s, what, where); };
+  auto integer = [&](const std::string &s, const std::string &what) { return reader_.integer(s, what, where); };
   auto ints = [&](std::vector<int> &out) {
     while (i < tok.size() && is_number(tok[i])) out.push_back(static_cast<int>(integer(tok[i++], "spring ID")));
   };
-  while (i < tok.size()) {
-    const std::string kw = tok[i];
-    if (kw == "tseries") {
-      if (i + 1 >= tok.size()) error->all(FLERR, ctx + ": tseries needs an integer ID and values");
-      const long id = integer(tok[i + 1], "tseries ID");
-      if (id < 0) error->all(FLERR, ctx + ": tseries ID must be >= 0 (it is the state code SS while unloading)");
-      std::vector<double> tv;
-      i += 2;
-      while (i < tok.size() && is_number(tok[i])) tv.push_back(number(tok[i++], "tseries value"));
-      if (tseries_->count(static_cast<int>(id))) error->all(FLERR, ctx + ": tseries " + std::to_string(id) + ": ID defined twice");
-      try {
-        tseries_->emplace(static_cast<int>(id), tv.size() == 1 ? sp::TimeSeries::constant(tv[0]) : sp::TimeSeries::from_pairs(tv));
-      } catch (std::invalid_argument &e) {
-        error->all(FLERR, ctx + ": tseries " + std::to_string(id) + ": " + e.what());
-      }
-    } else if (kw == "file") {
-      if (i + 1 >= tok.size()) error->all(FLERR, ctx + ": file needs a file name");
-      read_file(tok[i + 1]);
-      i += 2;
-    } else if (kw == "rule") {
-      ts::UnspringRule r;
-      const std::string who = ctx + ": rule " + std::to_string(rules_.size());
-      i++;
-      bool limits = false;
-      while (i < tok.size() && tok[i] != "rule" && tok[i] != "tseries" && tok[i] != "file") {
-        const std::string o = tok[i++];
-        auto need = [&](const char *what) -> const std::string & {
-          if (i >= tok.size()) error->all(FLERR, who + ": " + o + " needs " + what);
-          return tok[i++];
-        };
-        if (o == "tsprings") {
-          ints(r.tsprings);
-        } else if (o == "msprings") {
-          ints(r.msprings);
-        } else if (o == "activate") {
-          ints(r.activate);
-        } else if (o == "limits") {
-          const std::string lo = need("MIN MAX (numbers or None)"), hi = need("MIN MAX (numbers or None)");
-          r.min = (lo == "None" || lo == "none") ? -std::numeric_limits<double>::infinity() : number(lo, "limits min");
-          r.max = (hi == "None" || hi == "none") ? std::numeric_limits<double>::infinity() : number(hi, "limits max");
-          limits = true;
-        } else if (o == "entity" || o == "operator") {
-          const std::string v = need(o == "entity" ? "STROKE, F, SF or FF" : "SUM, MIN or MAX");
-          try {
-            if (o == "entity")
-              r.entity = ts::parse_entity(v);
-            else
-              r.op = ts::parse_operator(v);
-          } catch (std::invalid_argument &e) {
-            error->all(FLERR, who + ": " + e.what());
-          }
-        } else if (o == "abs") {
-          r.abs = true;
-        } else if (o == "nsteps") {
-          r.nsteps = integer(need("an integer"), "nsteps");
-        } else if (o == "nfreq") {
-          r.nfreq = static_cast<int>(integer(need("an integer"), "nfreq"));
-        } else if (o == "unload") {
-          r.unload = static_cast<int>(integer(need("a TSERIES ID"), "unload TSERIES ID"));
-        } else if (o == "unload_map") {
-          while (i + 1 < tok.size() && is_number(tok[i]) && is_number(tok[i + 1])) {
-            const int s = static_cast<int>(integer(tok[i], "unload_map spring ID"));
-            r.unload_by_spring[s] = static_cast<int>(integer(tok[i + 1], "unload_map TSERIES ID"));
-            i += 2;
-          }
-        } else {
-          error->all(FLERR, who + ": unknown word '" + o +
-                                "' (expected tsprings, msprings, limits, entity, operator, abs, nsteps, nfreq, "
-                                "unload, unload_map, activate)");
-        }
-      }
-      if (!limits) error->all(FLERR, who + ": limits MIN MAX is required (None for an open side)");
-      rules_.push_back(r);
-    } else {
-      error->all(FLERR, ctx + ": unknown keyword '" + kw + "' (expected tseries, rule or file)");
+  const std::string kw = tok[i];
+  if (kw == "tseries") {
+    if (i + 1 >= tok.size()) error->all(FLERR, ctx + ": tseries needs an integer ID and values");
+    const long id = integer(tok[i + 1], "tseries ID");
+    if (id < 0) error->all(FLERR, ctx + ": tseries ID must be >= 0 (it is the state code SS while unloading)");
+    std::vector<double> tv;
+    i += 2;
+    while (i < tok.size() && is_number(tok[i])) tv.push_back(number(tok[i++], "tseries value"));
+    if (tseries_->count(static_cast<int>(id))) error->all(FLERR, ctx + ": tseries " + std::to_string(id) + ": ID defined twice");
+    try {
+      tseries_->emplace(static_cast<int>(id), tv.size() == 1 ? sp::TimeSeries::constant(tv[0]) : sp::TimeSeries::from_pairs(tv));
+    } catch (std::invalid_argument &e) {
+      error->all(FLERR, ctx + ": tseries " + std::to_string(id) + ": " + e.what());
     }
+  } else if (kw == "rule") {
+    ts::UnspringRule r;
+    const std::string who = ctx + ": rule " + std::to_string(rules_.size());
+    i++;
+    bool limits = false;
+    while (i < tok.size() && tok[i] != "rule" && tok[i] != "tseries" && tok[i] != "file") {
+      const std::string o = tok[i++];
+      auto need = [&](const char *what) -> const std::string & {
+        if (i >= tok.size()) error->all(FLERR, who + ": " + o + " needs " + what);
+        return tok[i++];
+      };
+      if (o == "tsprings") {
+        ints(r.tsprings);
+      } else if (o == "msprings") {
+        ints(r.msprings);
+      } else if (o == "activate") {
+        ints(r.activate);
+      } else if (o == "limits") {
+        const std::string lo = need("MIN MAX (numbers or None)"), hi = need("MIN MAX (numbers or None)");
+        r.min = (lo == "None" || lo == "none") ? -std::numeric_limits<double>::infinity() : number(lo, "limits min");
+        r.max = (hi == "None" || hi == "none") ? std::numeric_limits<double>::infinity() : number(hi, "limits max");
+        limits = true;
+      } else if (o == "entity" || o == "operator") {
+        const std::string v = need(o == "entity" ? "STROKE, F, SF or FF" : "SUM, MIN or MAX");
+        try {
+          if (o == "entity")
+            r.entity = ts::parse_entity(v);
+          else
+            r.op = ts::parse_operator(v);
+        } catch (std::invalid_argument &e) {
+          error->all(FLERR, who + ": " + e.what());
+        }
+      } else if (o == "abs") {
+        r.abs = true;
+      } else if (o == "nsteps") {
+        r.nsteps = integer(need("an integer"), "nsteps");
+      } else if (o == "nfreq") {
+        r.nfreq = static_cast<int>(integer(need("an integer"), "nfreq"));
+      } else if (o == "unload") {
+        r.unload = static_cast<int>(integer(need("a TSERIES ID"), "unload TSERIES ID"));
+      } else if (o == "unload_map") {
+        while (i + 1 < tok.size() && is_number(tok[i]) && is_number(tok[i + 1])) {
+          const int s = static_cast<int>(integer(tok[i], "unload_map spring ID"));
+          r.unload_by_spring[s] = static_cast<int>(integer(tok[i + 1], "unload_map TSERIES ID"));
+          i += 2;
+        }
+      } else {
+        error->all(FLERR, who + ": unknown word '" + o +
+                              "' (expected tsprings, msprings, limits, entity, operator, abs, nsteps, nfreq, "
+                              "unload, unload_map, activate)");
+      }
+    }
+    if (!limits) error->all(FLERR, who + ": limits MIN MAX is required (None for an open side)");
+    rules_.push_back(r);
+  } else {
+    return false;
   }
-}
-
-void FixParmecUnspring::read_file(const std::string &path)
-{
-  parse(read_definition_words(lmp, path, cmd_), "file " + path);
+  return true;
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -319,12 +289,8 @@ void FixParmecUnspring::restart(char *buf)
   registered_ = true;  // the msprings' -2 codes are in the restored spring states
 }
 
-static void *create_fix_parmec_unspring(void *lmp, int narg, char **arg)
-{
-  return new FixParmecUnspring(static_cast<LAMMPS *>(lmp), narg, arg);
-}
 static RegisterStyle reg_fix_parmec_unspring("fix", "parmec/unspring",
                                              "Parmec UNSPRING: conditional unloading, removal and activation of springs",
-                                             create_fix_parmec_unspring);
+                                             create_fix<FixParmecUnspring>);
 
 }  // namespace dembridge

@@ -13,6 +13,8 @@
 
 #include "fix.h"
 
+#include "definition_reader.h"
+
 #include "TimeSeries.h"
 #include "UnspringRule.h"
 
@@ -38,6 +40,7 @@ class FixParmecUnspring : public LAMMPS_NS::Fix {
 
  private:
   std::string cmd_;
+  state::DefinitionReader reader_;
   std::string spring_fix_id_;
   // Unload curves, registered with the spring fix by pointer: kept alive until the program ends (a
   // static list), so the spring fix may outlive this fix (unfix) without dangling pointers.
@@ -50,8 +53,8 @@ class FixParmecUnspring : public LAMMPS_NS::Fix {
   LAMMPS_NS::bigint start_ = 0;    // LAMMPS step before the first force evaluation (kernel step 0)
 
   FixParmecSpring *springs();
-  void parse(const std::vector<std::string> &tok, const std::string &where);
-  void read_file(const std::string &path);
+  // 'tseries' and 'rule' (the keyword loop and 'file' are the state layer's DefinitionReader)
+  bool parse_definition(const std::vector<std::string> &tok, std::size_t &i, const std::string &where);
 };
 
 }  // namespace dembridge

@@ -65,7 +65,9 @@ template <bool Wall>
   double *Ft = out.Ft;
   double *shear = history;
   switch (cfg_.tangential) {
-    case TangentialModel::None: Ft[0] = Ft[1] = Ft[2] = 0.0; break;
+    default:  // None; 'default' tells GCC every path writes Ft (-Wmaybe-uninitialized)
+      Ft[0] = Ft[1] = Ft[2] = 0.0;
+      break;
     case TangentialModel::NoHistory: tangential_no_history(g, c.gammat, Ft_max, Ft); break;
     case TangentialModel::History:
       tangential_history(g, c.kt, c.gammat, Ft_max, dt, history_update, cfg_.legacy_2x_expressions, shear, Ft);

@@ -1,0 +1,63 @@
+// Per-atom lists of fixed-size state records (LAMMPS-free; doc/per_atom_state.md).
+//
+// Each atom holds any number of records of `record_size` doubles; element 0 of a record is its key (the
+// definition index of the spring, joint, restraint or wall contact it belongs to). The lists move with
+// their atom: copy (sort, deletion), pack/unpack (exchange, restart). The layer never reads beyond the
+// key, so any fix with per-atom, per-entity state can keep it here.
+#pragma once
+
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+namespace dembridge::state {
+
+class RecordLists {
+ public:
+  explicit RecordLists(int record_size) : rs_(record_size) {}
+
+  int record_size() const { return rs_; }
+  void resize(int nmax) { lists_.resize(nmax); }
+  int count(int i) const { return static_cast<int>(lists_[i].size()) / rs_; }
+  double *record(int i, int r) { return &lists_[i][std::size_t(r) * rs_]; }
+  const double *record(int i, int r) const { return &lists_[i][std::size_t(r) * rs_]; }
+  int key(int i, int r) const { return static_cast<int>(lists_[i][std::size_t(r) * rs_]); }
+
+  // A zeroed record with this key appended to atom i (pointer valid until atom i's list changes).
+  double *append(int i, int key);
+  void erase(int i, int r);  // the last record takes its place (order is not kept)
+  void clear(int i);         // also frees the atom's memory
+  void copy(int from, int to);
+
+  // Wire format of one atom: [n, n values]; pack returns the doubles written, unpack those read.
+  int packed_size(int i) const { return 1 + static_cast<int>(lists_[i].size()); }
+  int pack(int i, double *buf) const;
+  int unpack(int i, const double *buf);
+
+  // Sum of count(i) over atoms 0..n-1.
+  long total(int n) const;
+  // Bytes held by atoms 0..n-1.
+  double bytes(int n) const;
+
+  // Incremented whenever records move between atoms or appear/disappear: index caches compare it.
+  unsigned long generation() const { return generation_; }
+
+ private:
+  int rs_;
+  std::vector<std::vector<double>> lists_;
+  unsigned long generation_ = 0;
+};
+
+// key -> (atom, record) of the records held by atoms 0..n-1, rebuilt only when the lists changed.
+class RecordIndex {
+ public:
+  // (-1, -1) when no local atom holds a record of this key (keys must lie in 0..nkeys-1).
+  std::pair<int, int> find(const RecordLists &lists, int n, int nkeys, int key);
+
+ private:
+  std::vector<std::pair<int, int>> where_;
+  unsigned long generation_ = ~0ul;
+  int n_ = -1;
+};
+
+}  // namespace dembridge::state

@@ -28,8 +28,8 @@ def test_sphere_on_moving_plane_ends_at_two_sevenths_of_the_belt_speed():
             "run 30000",
         ]:
             lmp.command(line)
-        v = lmp.numpy.extract_atom("v")[0]
-        w = lmp.numpy.extract_atom("omega")[0]
+        v = lmp.numpy.extract_atom("v")[0].copy()  # a copy: the view dies with lmp.close()
+        w = lmp.numpy.extract_atom("omega")[0].copy()
     finally:
         lmp.close()
     assert v[0] == pytest.approx(2.0 / 7.0 * V, rel=5e-3)

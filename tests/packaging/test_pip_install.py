@@ -124,8 +124,11 @@ def test_dembridge_lammps_from_python_under_mpiexec(installed):
             "c = MPI.COMM_WORLD\n"
             "assert lmp.has_style('compute', 'pair/gran/local') and lmp.has_style('fix', 'property/global')\n"
             "lmp.command('region b block 0 1 0 1 0 1'); lmp.command('create_box 1 b')\n"
-            "print('rank', c.rank, 'of', c.size, 'nprocs', lmp.extract_setting('world_size'), dembridge.__version__,"
-            " dembridge.plugin_path())\n")
+            "line = f'rank {c.rank} of {c.size} nprocs {lmp.extract_setting(\"world_size\")} {dembridge.__version__}'"
+            " f' {dembridge.plugin_path()}'\n"
+            # gathered and printed by rank 0: two ranks printing at once interleave their lines
+            "lines = c.gather(line, root=0)\n"
+            "if c.rank == 0: print('\\n'.join(lines), flush=True)\n")
     rc, out = _run([os.path.join(v.bin, "mpiexec"), "-n", "2", v.python, "-c", code], str(base))
     assert rc == 0, out[-3000:]
     so = os.path.join(v.site_packages(), "dembridge", "dembridgeplugin.so")

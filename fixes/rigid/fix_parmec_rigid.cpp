@@ -1,6 +1,7 @@
 // fix parmec/rigid: see fix_parmec_rigid.h and doc/fix_parmec_rigid.md.
 #include "fix_parmec_rigid.h"
 #include "definition_file.h"
+#include "state/table_registry.h"
 
 #include "style_registry.h"
 
@@ -28,19 +29,8 @@ namespace dembridge {
 
 namespace {
 
-bool parse_double(const std::string &s, double &v)
-{
-  if (s.empty()) return false;
-  char *end = nullptr;
-  v = std::strtod(s.c_str(), &end);
-  return end && *end == '\0';
-}
-
-bool is_number(const std::string &s)
-{
-  double v;
-  return parse_double(s, v);
-}
+using state::is_number;     // one number parser for every Parmec fix (fixes/state)
+using state::parse_double;
 
 // Row-major rotation matrix (body -> space) of a LAMMPS quaternion (w, x, y, z).
 Mat3 rotation(const double *q)

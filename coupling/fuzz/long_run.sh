@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The on-demand long run of the MBDyn protocol fuzzer (libFuzzer, ASan + UBSan): N executions (default
-# 10^7) at low priority, split over DEMBRIDGE_FUZZ_WORKERS processes (default 1) with distinct seeds that
+# 10^7) at low priority (nice DEMBRIDGE_FUZZ_NICE, default 10), split over DEMBRIDGE_FUZZ_WORKERS processes (default 1) with distinct seeds that
 # share one corpus. Prints the figures doc/mbdyn_protocol_library.md reports.
 #   coupling/fuzz/long_run.sh <fuzzer binary> [executions]
 set -euo pipefail
@@ -13,7 +13,7 @@ per=$(( (runs + workers - 1) / workers ))
 start=$(date +%s)
 pids=()
 for w in $(seq 1 "$workers"); do
-  nice -n 19 "$fuzzer" -seed="$w" -runs="$per" -max_len=512 -timeout=10 -rss_limit_mb=2048 \
+  nice -n "${DEMBRIDGE_FUZZ_NICE:-10}" "$fuzzer" -seed="$w" -runs="$per" -max_len=512 -timeout=10 -rss_limit_mb=2048 \
     -print_final_stats=1 -reload=1 "$work/corpus" > "$work/worker_$w.log" 2>&1 &
   pids+=($!)
 done
@@ -27,6 +27,9 @@ for w in $(seq 1 "$workers"); do
   grep -E '^(stat::|Done|==[0-9]+==ERROR|SUMMARY)' "$work/worker_$w.log" | sed "s/^/worker $w: /"
 done
 cov=$(grep -ho 'cov: [0-9]*' "$work"/worker_*.log | awk '{print $2}' | sort -n | tail -1)
-echo "fuzz long run: $total executions in $((end - start)) s by $workers worker(s), max coverage ${cov:-?} edges," \
-     "corpus $(ls "$work/corpus" | wc -l) inputs, status $([ $status = 0 ] && echo clean || echo FAILED)"
+ft=$(grep -ho 'ft: [0-9]*' "$work"/worker_*.log | awk '{print $2}' | sort -n | tail -1)
+secs=$((end - start))
+echo "fuzz long run: $total executions in $secs s ($(( total / (secs > 0 ? secs : 1) )) exec/s) by $workers worker(s)," \
+     "max coverage ${cov:-?} edges / ${ft:-?} features, corpus $(ls "$work/corpus" | wc -l) inputs," \
+     "status $([ $status = 0 ] && echo clean || echo FAILED)"
 exit $status

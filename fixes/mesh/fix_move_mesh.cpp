@@ -31,7 +31,8 @@ FixMoveMesh::FixMoveMesh(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg
   mesh_ = FixMeshSurface::find(lmp, mesh_id_, cmd);
   parse_mover(a);
   if (!a.done()) a.fail(std::string("'") + a.peek() + "'", "unexpected argument after the " + kind_ + " arguments");
-  time_integrate = 1;
+  // time_integrate stays 0: this fix moves triangles, not the atoms of its group (LIGGGHTS decks give
+  // it group all, which would make LAMMPS warn that the atoms are integrated twice).
   restart_global = 1;
 }
 

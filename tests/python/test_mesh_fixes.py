@@ -328,3 +328,16 @@ def test_stress_vector_in_thermo_variables_and_ave_time_carries_the_weight():
     x = lmp.numpy.extract_atom("x")[0]
     assert lmp.extract_fix("cad", 0, 1, 4) == pytest.approx(-(x[0] - 0.01) * lmp.extract_fix("cad", 0, 1, 2), rel=1e-6, abs=1e-12)
     lmp.close()
+
+
+def test_move_mesh_does_not_claim_to_integrate_the_atoms(tmp_path):
+    """fix move/mesh moves triangles, not atoms: LAMMPS must not warn that the group's atoms are
+    'time integrated more than once' beside fix nve/sphere (LIGGGHTS decks give it group all)"""
+    log = tmp_path / "log.lammps"
+    lmp = run(deck_head() + [
+        f"fix cad all mesh/surface file {DATA}/pusher.stl type 1",
+        "fix mv all move/mesh mesh cad linear 0.1 -0.2 0.05", "run 10"], log=str(log))
+    lmp.close()
+    text = log.read_text()
+    assert "Loop time" in text
+    assert "time integrated more than once" not in text

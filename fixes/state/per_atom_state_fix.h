@@ -156,7 +156,11 @@ class PerAtomStateFix : public LAMMPS_NS::Fix {
   std::vector<std::pair<long, long>> atoms_;
   std::unordered_map<long, std::vector<int>> by_first_;  // first atom tag -> keys
   bool two_atom_ = false;
-  bool restored_record_fits(int i, const double *rec) const;
+
+ protected:
+  // Whether a record read from a restart file belongs to atom i (default: its key is an entity whose first
+  // atom is i). Fixes whose records are created on the fly (contacts keyed by the partner) override it.
+  virtual bool restored_record_fits(int i, const double *rec) const;
 };
 
 }  // namespace dembridge::state

@@ -1,0 +1,459 @@
+// fix parmec/granular: see fix_parmec_granular.h and doc/fix_parmec_granular.md.
+#include "fix_parmec_granular.h"
+
+#include "style_registry.h"
+#include "triangle_contact.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "error.h"
+#include "force.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "pair.h"
+#include "update.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+using namespace LAMMPS_NS;
+
+namespace dembridge {
+
+namespace pc = parmec_contact;
+using mesh::Vec3;
+
+namespace {
+
+Vec3 vec(const double *a) { return {a[0], a[1], a[2]}; }
+
+const char *const kExpected = "color, pairing, obstacle, tseries, file or start";
+
+struct Term {  // one contact's contribution to its sphere, summed in key order
+  int key;
+  double f[3], t[3];
+};
+
+}  // namespace
+
+FixParmecGranular::FixParmecGranular(LAMMPS *lmp, int narg, char **arg) :
+    PerAtomStateFix(lmp, narg, arg, kRecord),
+    reader_(lmp, cmd_, state::DefinitionReader::kTseries | state::DefinitionReader::kFile | state::DefinitionReader::kStart,
+            "obstacle", kExpected)
+{
+  if (narg < 4) error->all(FLERR, cmd_ + ": expected definitions (" + std::string(kExpected) + ") after the style name");
+  if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
+    error->all(FLERR, cmd_ + " needs per-atom radius, mass, omega and torque (atom_style sphere or bpm/sphere)");
+  reader_.parse(std::vector<std::string>(arg + 3, arg + narg), "command line",
+                [this](const std::vector<std::string> &tok, std::size_t &i, const std::string &where) {
+                  return parse_color(tok, i, where) || parse_pairing(tok, i, where) || parse_obstacle(tok, i, where);
+                });
+  build_obstacles();
+  vector_flag = 1;
+  size_vector = 5;
+  global_freq = 1;
+  extvector = 0;
+  maxexchange_dynamic = 1;
+}
+
+// ------------------------------------------------------------------------------------------ parsing
+
+bool FixParmecGranular::parse_color(const std::vector<std::string> &tok, std::size_t &i, const std::string &where)
+{
+  if (tok[i] != "color") return false;
+  reader_.need(tok, i, 1, "'type' or i_NAME (an integer per-atom property)", where);
+  const std::string &c = tok[i + 1];
+  if (c != "type" && (c.rfind("i_", 0) != 0 || c.size() < 3))
+    error->all(FLERR, cmd_ + " (" + where + "): color: expected 'type' or i_NAME (fix property/atom i_NAME ghost yes), got '" +
+                          c + "'");
+  color_name_ = c;
+  i += 2;
+  return true;
+}
+
+bool FixParmecGranular::parse_pairing(const std::vector<std::string> &tok, std::size_t &i, const std::string &where)
+{
+  if (tok[i] != "pairing") return false;
+  state::EntityWords w(reader_, tok, i, where,
+                       "pairing C1 C2 spring K [damper Z] [friction MUS [MUD]] [kskn R]");
+  const long c1 = w.integer(w.next("color1"), "color1");
+  const long c2 = w.integer(w.next("color2"), "color2");
+  pc::Pairing p;
+  if (w.next("spring") != "spring") w.fail("expected 'spring K' after the colours");
+  p.spring = w.number(w.next("spring value"), "spring");
+  bool mud_given = false;
+  while (w.more()) {
+    const std::string &kw = w.peek();
+    if (kw == "damper") {
+      w.next("damper");
+      p.damper = w.number(w.next("damper value"), "damper");
+    } else if (kw == "friction") {
+      w.next("friction");
+      p.mu_static = w.number(w.next("friction value"), "friction");
+      mud_given = w.more() && state::is_number(w.peek());
+      p.mu_dynamic = mud_given ? w.number(w.next("dynamic friction"), "dynamic friction") : p.mu_static;
+    } else if (kw == "kskn") {
+      w.next("kskn");
+      p.kskn = w.number(w.next("kskn value"), "kskn");
+    } else {
+      break;
+    }
+  }
+  w.check([&] { pairings_.set(static_cast<int>(c1), static_cast<int>(c2), p); });
+  return w.accept(i);
+}
+
+bool FixParmecGranular::parse_obstacle(const std::vector<std::string> &tok, std::size_t &i, const std::string &where)
+{
+  if (tok[i] != "obstacle") return false;
+  state::EntityWords w(reader_, tok, i, where,
+                       "obstacle OID N x1 y1 z1 ... (9N numbers) color C | colors C1 ... CN [point x y z] "
+                       "[linear S S S] [angular S S S]");
+  static std::unordered_set<long> ids;  // per parse; cleared below when a new fix is created
+  if (defs_.empty()) ids.clear();
+  ObstacleDef d;
+  d.id = w.id(ids);
+  const long n = w.integer(w.next("triangle count N"), "triangle count N");
+  if (n < 1) w.fail("triangle count N must be >= 1, got " + std::to_string(n));
+  for (long t = 0; t < n; t++) {
+    mesh::TriangleNodes tri;
+    for (int k = 0; k < 9; k++) tri[k / 3][k % 3] = w.number(w.next("triangle coordinate (9 per triangle)"), "triangle coordinate");
+    d.triangles.push_back(tri);
+  }
+  for (int k = 0; k < 6; k++) d.velocity[k] = "0";
+  bool have_color = false, have_point = false, have_velocity = false;
+  while (w.more()) {
+    const std::string &kw = w.peek();
+    if (kw == "color") {
+      w.next("color");
+      d.colors.assign(n, static_cast<int>(w.integer(w.next("color value"), "color")));
+      have_color = true;
+    } else if (kw == "colors") {
+      w.next("colors");
+      d.colors.clear();
+      for (long t = 0; t < n; t++) d.colors.push_back(static_cast<int>(w.integer(w.next("colour per triangle"), "colors")));
+      have_color = true;
+    } else if (kw == "point") {
+      w.next("point");
+      for (int k = 0; k < 3; k++) d.point[k] = w.number(w.next("point coordinate"), "point");
+      have_point = true;
+    } else if (kw == "linear" || kw == "angular") {
+      const int off = kw == "linear" ? 0 : 3;
+      w.next(kw);
+      for (int k = 0; k < 3; k++) d.velocity[off + k] = w.next(kw + " component (a number or a tseries ID)");
+      have_velocity = true;
+    } else {
+      break;
+    }
+  }
+  if (!have_color) w.fail("expected 'color C' or 'colors C1 ... CN'");
+  if (have_velocity && !have_point) w.fail("a moving obstacle needs its reference 'point x y z'");
+  d.moving = have_point && have_velocity;
+  defs_.push_back(std::move(d));
+  return w.accept(i);
+}
+
+void FixParmecGranular::build_obstacles()
+{
+  int first = 0;
+  for (std::size_t o = 0; o < defs_.size(); o++) {
+    ObstacleDef &d = defs_[o];
+    const std::string who = cmd_ + ": obstacle " + std::to_string(d.id) + ": ";
+    try {
+      obstacles_.emplace_back(d.triangles, d.colors);
+    } catch (std::exception &e) {
+      error->all(FLERR, who + e.what());
+    }
+    std::array<springs::TimeSeries, 6> vel;
+    for (int k = 0; k < 6; k++) {
+      const std::string &s = d.velocity[k];
+      if (state::is_number(s))
+        vel[k] = springs::TimeSeries::constant(reader_.number(s, "obstacle velocity", "obstacle " + std::to_string(d.id)));
+      else
+        vel[k] = *reader_.tseries(s, who, k < 3 ? "linear" : "angular");
+    }
+    velocity_.push_back(vel);
+    if (d.moving) {
+      auto comp = [this, o](int off) {
+        return [this, o, off](double t) {
+          const auto &s = velocity_[o];
+          return Vec3{s[off].value_clamped(t), s[off + 1].value_clamped(t), s[off + 2].value_clamped(t)};
+        };
+      };
+      obstacles_.back().set_motion(d.point, comp(0), comp(3));
+    }
+    first_triangle_.push_back(first);
+    first += obstacles_.back().mesh().size();
+    d.triangles.clear();
+  }
+  candidates_.resize(obstacles_.size());
+}
+
+// ------------------------------------------------------------------------------------------ set-up
+
+int FixParmecGranular::setmask()
+{
+  return FixConst::POST_FORCE | FixConst::MIN_POST_FORCE;
+}
+
+void FixParmecGranular::init()
+{
+  check_run_style_and_ghosts("");
+  if (!comm->ghost_velocity)
+    error->all(FLERR, cmd_ + ": contacts between spheres need ghost velocities: use 'comm_modify vel yes'");
+  color_property_ = -1;
+  if (color_name_ != "type") {
+    int flag = 0, cols = 0;
+    color_property_ = atom->find_custom(color_name_.c_str() + 2, flag, cols);
+    if (color_property_ < 0 || flag != 0 || cols != 0)
+      error->all(FLERR, cmd_ + ": color " + color_name_ + ": no integer per-atom property " + color_name_ +
+                            " (expected 'fix property/atom " + color_name_ + " ghost yes')");
+  }
+  double rmax = 0.0;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (atom->mask[i] & groupbit) rmax = std::max(rmax, atom->radius[i]);
+  double all = 0.0;
+  MPI_Allreduce(&rmax, &all, 1, MPI_DOUBLE, MPI_MAX, world);
+  // the full neighbour list spans the pair cutoff (+ skin): it must reach every touching pair
+  const double cut = force->pair ? force->pair->cutforce : 0.0;
+  if (cut < 2.0 * all)
+    error->all(FLERR, fmt::format("{}: the pair cutoff ({}) is below twice the largest radius ({}): define a pair "
+                                  "cutoff of at least {} (e.g. 'pair_style zero {}' and 'pair_coeff * *')",
+                                  cmd_, cut, all, 2.0 * all, 2.0 * all));
+  neighbor->add_request(this, NeighConst::REQ_FULL | NeighConst::REQ_SIZE);
+}
+
+void FixParmecGranular::init_list(int, NeighList *ptr)
+{
+  list_ = ptr;
+}
+
+void FixParmecGranular::setup(int)
+{
+  // 'start parmec' (the Parmec front end): the first forces are those of the first step, as in Parmec
+  if (!reader_.parmec_start) evaluate(Mode::Setup);
+}
+
+int FixParmecGranular::color_of(int i) const
+{
+  return color_property_ < 0 ? atom->type[i] : atom->ivector[color_property_][i];
+}
+
+// ------------------------------------------------------------------------------------------ contacts
+
+void FixParmecGranular::evaluate(Mode mode)
+{
+  const bool commit = mode == Mode::Commit;
+  const double h = update->dt;
+  // The obstacles move at the start of a committed step (not at the end of the previous one), so a setup
+  // pass between runs sees the pose of the last committed step and repeats its forces.
+  if (commit && !started_) {
+    for (auto &o : obstacles_) o.start(clock_, h, reader_.parmec_start);
+    started_ = true;
+  } else if (commit) {
+    for (auto &o : obstacles_) o.advance(clock_, h);
+    clock_ += h;
+  }
+  double **x = atom->x, **v = atom->v, **omega = atom->omega, **f = atom->f, **torque = atom->torque;
+  const double *radius = atom->radius, *rmass = atom->rmass;
+  const int *mask = atom->mask;
+  const tagint *tag = atom->tag;
+  const int nlocal = atom->nlocal;
+
+  std::vector<int> skip(nlocal);
+  for (int i = 0; i < nlocal; i++) skip[i] = !(mask[i] & groupbit) || color_of(i) <= 0;
+  for (std::size_t o = 0; o < obstacles_.size(); o++)
+    candidates_[o].build(obstacles_[o].mesh(), nlocal, x, radius, skip.data(), 0.0);
+
+  std::vector<int> slot(nlocal, -1);
+  if (list_)
+    for (int ii = 0; ii < list_->inum; ii++) slot[list_->ilist[ii]] = ii;
+
+  for (double &c : counts_) c = 0.0;
+  std::vector<Term> terms;
+  std::vector<double> fresh;  // the contacts kept this step: key, s (3)
+  int most = 0;
+  for (int i = 0; i < nlocal; i++) {
+    if (skip[i]) {
+      if (commit && records_.count(i)) records_.clear(i);
+      continue;
+    }
+    terms.clear();
+    fresh.clear();
+    const int ci = color_of(i);
+    const Vec3 xi = vec(x[i]), vi = vec(v[i]), wi = vec(omega[i]);
+    // key: the contact's; from: the record holding its state (the key itself, or a contact it continues)
+    auto contact = [&](int key, int from, const pc::Pairing &p, const Vec3 &n, const Vec3 &arm, const Vec3 &vother,
+                       double depth, double meff) {
+      if (from == 0) from = key;
+      Vec3 s{0.0, 0.0, 0.0};
+      for (int r = 0; r < records_.count(i); r++)
+        if (records_.key(i, r) == from) {
+          const double *rec = records_.record(i, r);
+          s = {rec[1], rec[2], rec[3]};
+          break;
+        }
+      const Vec3 vij = mesh::sub(vother, mesh::add(vi, mesh::cross(wi, arm)));
+      const pc::ContactOutput out = pc::granular_force(p, {n, vij, depth, meff, h}, s, commit);
+      const Vec3 t = mesh::cross(arm, out.f);
+      terms.push_back({key, {out.f[0], out.f[1], out.f[2]}, {t[0], t[1], t[2]}});
+      fresh.insert(fresh.end(), {double(key), s[0], s[1], s[2]});
+      if (key > 0) {
+        counts_[0] += 0.5;
+      } else {
+        counts_[1] += 1.0;
+        for (int k = 0; k < 3; k++) counts_[2 + k] -= out.f[k];
+      }
+    };
+    // spheres: Parmec's contact point is the midpoint of the centres, n points from j to i
+    if (slot[i] >= 0) {
+      const int *jlist = list_->firstneigh[slot[i]];
+      const int jnum = list_->numneigh[slot[i]];
+      for (int jj = 0; jj < jnum; jj++) {
+        const int j = jlist[jj] & NEIGHMASK;
+        if (!(mask[j] & groupbit)) continue;
+        const int cj = color_of(j);
+        if (cj <= 0) continue;
+        const pc::Pairing &p = pairings_.find(ci, cj);
+        if (!p.touches()) continue;
+        const Vec3 xj = vec(x[j]);
+        const Vec3 d = mesh::sub(xi, xj);
+        const double len = mesh::norm(d);
+        const double depth = radius[i] + radius[j] - len;
+        if (depth <= 0.0 || len == 0.0) continue;
+        const Vec3 n = mesh::scale(d, 1.0 / len);
+        const Vec3 point = mesh::scale(mesh::add(xi, xj), 0.5);
+        const Vec3 armj = mesh::sub(point, xj);
+        const Vec3 vj = mesh::add(vec(v[j]), mesh::cross(vec(omega[j]), armj));
+        contact(static_cast<int>(tag[j]), 0, p, n, mesh::sub(point, xi), vj, depth, pc::effective_mass(rmass[i], rmass[j]));
+      }
+    }
+    // obstacles: the closest point of each touching triangle. A flat surface of several triangles acts once
+    // (LIGGGHTS's coplanar rule, as fix wall/gran mesh): a new face contact is not made while a coplanar
+    // neighbour of the same obstacle touches, and it takes over the tangential spring of one that did.
+    // Contacts that existed before go first, so an ongoing contact keeps acting.
+    for (std::size_t o = 0; o < obstacles_.size(); o++) {
+      const pc::Obstacle &ob = obstacles_[o];
+      const mesh::TriangleMesh &tm = ob.mesh();
+      const mesh::MeshNeighbors &cand = candidates_[o];
+      const int first = first_triangle_[o], last = first + tm.size();
+      auto triangle_of = [&](int key) { return -key - 1 - first; };
+      auto on_this_obstacle = [&](int key) { return key < 0 && -key - 1 >= first && -key - 1 < last; };
+      auto has_record = [&](int key) {
+        for (int r = 0; r < records_.count(i); r++)
+          if (records_.key(i, r) == key) return true;
+        return false;
+      };
+      for (int pass = 0; pass < 2; pass++)
+        for (const int *t = cand.begin(i); t != cand.begin(i) + cand.count(i); ++t) {
+          const int key = -(first + *t + 1);
+          if (has_record(key) != (pass == 0)) continue;
+          const pc::Pairing &p = pairings_.find(ci, ob.color(*t));
+          if (!p.touches()) continue;
+          const mesh::TriangleContact c = mesh::resolve_contact(tm, *t, xi, radius[i]);
+          if (c.kind == mesh::ContactKind::None) continue;
+          const double len = mesh::norm(c.delta);
+          const double depth = radius[i] - len;
+          if (depth <= 0.0 || len == 0.0) continue;
+          int carry = 0;  // key of a coplanar neighbour's old contact whose spring this one continues
+          if (pass == 1 && c.kind == mesh::ContactKind::Face) {
+            bool flat_neighbour_acts = false;
+            for (std::size_t r = 0; r < fresh.size(); r += kRecord) {
+              const int k2 = static_cast<int>(fresh[r]);
+              if (on_this_obstacle(k2) && tm.coplanar_node_neighbors(triangle_of(k2), *t)) flat_neighbour_acts = true;
+            }
+            if (flat_neighbour_acts) continue;
+            for (int r = 0; r < records_.count(i); r++) {
+              const int k2 = records_.key(i, r);
+              if (on_this_obstacle(k2) && tm.coplanar_node_neighbors(triangle_of(k2), *t)) carry = k2;
+            }
+          }
+          const Vec3 n = mesh::scale(c.delta, -1.0 / len);
+          contact(key, carry, p, n, c.delta, ob.velocity_at(mesh::add(xi, c.delta)), depth, rmass[i]);
+        }
+    }
+    std::sort(terms.begin(), terms.end(), [](const Term &a, const Term &b) { return a.key < b.key; });
+    for (const Term &tm : terms)
+      for (int k = 0; k < 3; k++) {
+        f[i][k] += tm.f[k];
+        torque[i][k] += tm.t[k];
+      }
+    if (commit) {
+      records_.clear(i);
+      for (std::size_t r = 0; r < fresh.size(); r += kRecord) {
+        double *rec = records_.append(i, static_cast<int>(fresh[r]));
+        for (int k = 1; k < kRecord; k++) rec[k] = fresh[r + k];
+      }
+      most = std::max(most, records_.count(i));
+    }
+  }
+  if (commit) maxexchange = std::max(maxexchange, 1 + most * kRecord);
+}
+
+double FixParmecGranular::compute_vector(int n)
+{
+  double all[5];
+  MPI_Allreduce(counts_, all, 5, MPI_DOUBLE, MPI_SUM, world);
+  return all[n];
+}
+
+// ------------------------------------------------------------------------------------------ fix_modify, restart
+
+// fix_modify ID file FILE: tseries redefined (the front end re-tabulates callbacks for each DEM call).
+int FixParmecGranular::modify_param(int narg, char **arg)
+{
+  if (std::strcmp(arg[0], "file") != 0) return 0;
+  if (narg < 2) error->all(FLERR, cmd_ + ": fix_modify file: expected a file name");
+  state::DefinitionReader r(lmp, cmd_, state::DefinitionReader::kTseries | state::DefinitionReader::kFile, "obstacle",
+                            "tseries or file");
+  r.parse({"file", arg[1]}, "fix_modify", [](const std::vector<std::string> &, std::size_t &, const std::string &) {
+    return false;
+  });
+  for (std::size_t o = 0; o < defs_.size(); o++)
+    for (int k = 0; k < 6; k++)
+      if (const springs::TimeSeries *ts = r.tables.tseries(defs_[o].velocity[k])) velocity_[o][k] = *ts;
+  return 2;
+}
+
+void FixParmecGranular::write_restart(FILE *fp)
+{
+  std::vector<double> out{clock_, started_ ? 1.0 : 0.0, double(obstacles_.size())};
+  for (const auto &o : obstacles_) {
+    const std::vector<double> s = o.save();
+    out.push_back(double(s.size()));
+    out.insert(out.end(), s.begin(), s.end());
+  }
+  if (comm->me == 0) {
+    const int bytes = static_cast<int>(out.size() * sizeof(double));
+    fwrite(&bytes, sizeof(int), 1, fp);
+    fwrite(out.data(), sizeof(double), out.size(), fp);
+  }
+}
+
+void FixParmecGranular::restart(char *buf)
+{
+  const double *list = reinterpret_cast<const double *>(buf);
+  clock_ = list[0];
+  started_ = list[1] != 0.0;
+  if (static_cast<std::size_t>(list[2]) != obstacles_.size())
+    error->all(FLERR, fmt::format("{}: the restart file holds {} obstacles, this fix defines {} (define the same obstacles "
+                                  "in the same order)", cmd_, static_cast<long>(list[2]), obstacles_.size()));
+  std::size_t m = 3;
+  for (auto &o : obstacles_) {
+    const std::size_t n = static_cast<std::size_t>(list[m++]);
+    try {
+      o.restore(std::vector<double>(list + m, list + m + n));
+    } catch (std::exception &e) {
+      error->all(FLERR, cmd_ + ": restart: " + e.what());
+    }
+    m += n;
+  }
+}
+
+static RegisterStyle reg_fix_parmec_granular("fix", "parmec/granular",
+                                             "Parmec GRANULAR contact of spheres and OBSTACLE triangle sets",
+                                             create_fix<FixParmecGranular>);
+
+}  // namespace dembridge

@@ -1,0 +1,72 @@
+// fix parmec/granular: LAMMPS glue of Parmec's GRANULAR contact between spheres and between spheres and
+// OBSTACLEs (doc/fix_parmec_granular.md). The force law and the colour-pair table are in granular_law.h,
+// the obstacles (walls/mesh triangle sets with Parmec's rigid motion) in obstacle.h; this file only loops
+// over contacts. Every local sphere evaluates each of its contacts itself (full neighbour list) from the
+// contact's state kept in its own record (key: partner tag, or -(obstacle triangle + 1)); the partner does
+// the same with the mirrored inputs, so both get exactly opposite forces without reverse communication,
+// and the sums run in key order: results do not depend on the decomposition.
+#pragma once
+
+#include "granular_law.h"
+#include "obstacle.h"
+#include "mesh_neighbors.h"
+
+#include "definition_reader.h"
+#include "per_atom_state_fix.h"
+#include "TimeSeries.h"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace dembridge {
+
+class FixParmecGranular : public state::PerAtomStateFix {
+ public:
+  static constexpr int kRecord = 4;  // key, tangential displacement (3)
+  FixParmecGranular(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
+
+  int setmask() override;
+  void init() override;
+  void init_list(int id, LAMMPS_NS::NeighList *list) override;
+  void setup(int vflag) override;
+  int modify_param(int narg, char **arg) override;
+  void write_restart(FILE *fp) override;
+  void restart(char *buf) override;
+  double compute_vector(int n) override;
+
+ private:
+  void evaluate(Mode mode) override;
+  bool restored_record_fits(int, const double *) const override { return true; }  // contacts come and go
+
+  bool parse_pairing(const std::vector<std::string> &tok, std::size_t &i, const std::string &where);
+  bool parse_obstacle(const std::vector<std::string> &tok, std::size_t &i, const std::string &where);
+  bool parse_color(const std::vector<std::string> &tok, std::size_t &i, const std::string &where);
+  void build_obstacles();
+  int color_of(int i) const;
+
+  state::DefinitionReader reader_;
+  parmec_contact::PairingTable pairings_;
+  struct ObstacleDef {
+    long id = 0;
+    std::vector<mesh::TriangleNodes> triangles;
+    std::vector<int> colors;
+    bool moving = false;
+    mesh::Vec3 point{0, 0, 0};
+    std::array<std::string, 6> velocity;  // linear x y z, angular x y z: a number or a tseries ID
+  };
+  std::vector<ObstacleDef> defs_;
+  std::vector<parmec_contact::Obstacle> obstacles_;
+  std::vector<std::array<springs::TimeSeries, 6>> velocity_;  // replaced by fix_modify ... tseries
+  std::vector<int> first_triangle_;                           // global triangle index of each obstacle's first
+  std::vector<mesh::MeshNeighbors> candidates_;
+  int color_property_ = -1;  // index of i_NAME, or -1: the atom type is the colour
+  std::string color_name_ = "type";
+  LAMMPS_NS::NeighList *list_ = nullptr;
+  double clock_ = 0.0;  // Parmec time t_n of the last committed step (accumulated steps, kept in restart files)
+  bool started_ = false;
+  double counts_[5] = {0, 0, 0, 0, 0};  // local: pair records, obstacle contacts, force on obstacles
+  std::vector<double> scratch_;
+};
+
+}  // namespace dembridge

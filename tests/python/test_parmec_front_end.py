@@ -442,8 +442,8 @@ BAD = [
     ("BALL_JOINT(p, (1, 0, 0), q)\nPRESCRIBE(p, (ts, ts, ts))\nDEM(0.01, 0.001)", "prescribed partly or by acceleration"),
     ("BALL_JOINT(p, (1, 0, 0), q)\nPRESCRIBE(q, (ts, ts, ts), (ts, ts, ts), 'aa')\nDEM(0.01, 0.001)",
      "prescribed partly or by acceleration"),
-    ("OBSTACLE([(0, 0, 0, 1, 0, 0, 0, 1, 0)], 1)", "OBSTACLE"),
-    ("GRANULAR(1, 1, 1e5)", "GRANULAR"),
+    ("OBSTACLE([(0, 0, 0, 1, 0, 0, 0, 1)], 1)", "OBSTACLE: argument 'triangles'"),
+    ("GRANULAR(1, 1, -1e5)", "GRANULAR: argument 'spring'"),
     ("MESH([0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1], [8, 0, 1, 2, 3, 4, 5, 6, 7, m], m, 1)\n"
      "GRANULAR(1, 1, 1e5)", "GRANULAR: contact involving MESH"),
     ("HISTORY('PQ', p)", "HISTORY: unknown entity"),

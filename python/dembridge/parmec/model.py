@@ -84,7 +84,8 @@ class Model:
         self.damping = None         # (3 linear, 3 angular sources)
         self.histories = []         # dicts with 'list'
         self.outputs = []
-        self.granular = []
+        self.granular = []          # pairing dicts, in call order (a later pairing of a pair wins)
+        self.obstacles = []
         self.curtime = 0.0
         self.step_count = 0         # steps done over all DEM calls
         self.hist_time = 0.0        # Parmec's curtime_history
@@ -219,6 +220,8 @@ class Model:
             colors = [colors]
         if not isinstance(colors, (list, tuple)) or not colors or not isinstance(colors[0], int) or colors[0] <= 0:
             fail(cmd, f"argument 'colors' must be a positive integer or a list [gcolor, ...], got {colors!r}")
+        if self.contact_active():
+            self._no_mesh_contact(cmd, adding_mesh=True)
         dens = {i: mat[0] for i, mat in enumerate(self.materials)}
         mass, centre, J, vol = geo.mesh_mass_properties(nodes, elements, dens)
         r = math.sqrt((J[0][0] + J[1][1] + J[2][2]) / 3.0 / (0.4 * mass))
@@ -263,9 +266,44 @@ class Model:
         self.particles.append(Particle("ANALYTICAL", float(mass), pos, J, r, mat, 0, rot))
         return len(self.particles) - 1
 
-    def OBSTACLE(self, *args, **kwargs):
-        fail("OBSTACLE", "not supported yet by the dembridge front end (moving triangle obstacles need the wall/mesh "
-                         "machinery; see doc/parmec_front_end.md)")
+    def OBSTACLE(self, triangles, color, point=None, linear=None, angular=None):
+        """A static or moving triangle set (fix parmec/granular). linear/angular: callbacks f(t) -> (x, y, z)
+        (Parmec) or tuples of 3 TSERIES numbers; a moving obstacle needs its reference 'point'."""
+        cmd = "OBSTACLE"
+        self._modifiable(cmd)
+        if not isinstance(triangles, (list, tuple)) or not triangles:
+            fail(cmd, f"argument 'triangles' must be a non-empty list of 9-tuples (x1, y1, z1, ..., z3), got {triangles!r}")
+        tris = []
+        for k, t in enumerate(triangles):
+            if not isinstance(t, (tuple, list)) or len(t) != 9 or not all(_is_real(c) for c in t):
+                fail(cmd, f"argument 'triangles': triangle {k} must be a tuple of 9 numbers, got {t!r}")
+            a, b, c = [float(x) for x in t[0:3]], [float(x) for x in t[3:6]], [float(x) for x in t[6:9]]
+            e1, e2 = [b[i] - a[i] for i in range(3)], [c[i] - a[i] for i in range(3)]
+            n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]]
+            if not all(math.isfinite(x) for x in a + b + c) or math.sqrt(sum(x * x for x in n)) == 0.0:
+                fail(cmd, f"argument 'triangles': triangle {k} is degenerate (zero area or not finite): {tuple(t)!r}")
+            tris.append(a + b + c)
+        if isinstance(color, int) and not isinstance(color, bool):
+            colors = [color] * len(tris)
+        elif isinstance(color, (list, tuple)):
+            if len(color) != len(tris):
+                fail(cmd, f"argument 'color': expected one colour per triangle ({len(tris)}), got {len(color)}")
+            colors = list(color)
+        else:
+            fail(cmd, f"argument 'color' must be a positive integer or a list of them, got {color!r}")
+        for c in colors:
+            if not isinstance(c, int) or isinstance(c, bool) or c <= 0:
+                fail(cmd, f"argument 'color' must be a positive integer (or a list of them), got {c!r}")
+        ob = {"triangles": tris, "colors": colors, "point": None, "linear": None, "angular": None}
+        if point is not None:
+            ob["point"] = _vec(cmd, "point", point)
+        for name, v in (("linear", linear), ("angular", angular)):
+            if v is not None:
+                ob[name] = self._triple(cmd, name, v)
+        if (linear is not None or angular is not None) and point is None:
+            fail(cmd, "argument 'point' is required with 'linear' or 'angular' (Parmec silently keeps such an "
+                      "obstacle static)")
+        self.obstacles.append(ob)
 
     def BALL_JOINT(self, part1, point, part2=None):
         cmd = "BALL_JOINT"
@@ -283,18 +321,50 @@ class Model:
         return len(self.joints) - 1
 
     def GRANULAR(self, color1, color2, spring, damper=1.0, friction=0.0, rolling=0.0, drilling=0.0, kskn=0.5):
+        """A pairing of surface colours (spec §11); (0, 0) redefines the default of unspecified pairings."""
         cmd = "GRANULAR"
+        self._modifiable(cmd)
         for n, v in (("color1", color1), ("color2", color2)):
-            if not isinstance(v, int) or v < 0:
+            if not isinstance(v, int) or isinstance(v, bool) or v < 0:
                 fail(cmd, f"argument '{n}' must be an integer >= 0, got {v!r}")
-        if not _is_real(spring) or spring < 0:
-            fail(cmd, f"argument 'spring' must be a number >= 0, got {spring!r}")
+        if (color1 == 0) != (color2 == 0):
+            fail(cmd, f"arguments 'color1', 'color2' = ({color1}, {color2}): colour 0 only as (0, 0), the default "
+                      "of unspecified pairings")
+        for n, v in (("spring", spring), ("damper", damper), ("kskn", kskn)):
+            if not _is_real(v) or not math.isfinite(v) or v < 0:
+                fail(cmd, f"argument '{n}' must be a number >= 0, got {v!r}")
+        if _is_real(friction):
+            mus = mud = friction
+        elif isinstance(friction, (tuple, list)) and len(friction) == 2 and all(_is_real(f) for f in friction):
+            mus, mud = friction
+        else:
+            fail(cmd, f"argument 'friction' must be a number or a tuple (static, dynamic), got {friction!r}")
+        if not (math.isfinite(mus) and math.isfinite(mud)) or mus < 0 or mud < 0:
+            fail(cmd, f"argument 'friction' must be >= 0, got {friction!r}")
+        for n, v in (("rolling", rolling), ("drilling", drilling)):
+            if not _is_real(v):
+                fail(cmd, f"argument '{n}' must be a number, got {v!r}")
+            if v != 0:
+                fail(cmd, f"argument '{n}' = {v!r} is not supported (Parmec's {n} friction is under development "
+                          "and has no effect there)")
         if spring > 0:
-            if any(p.kind == "MESH" for p in self.particles):
-                fail(cmd, "contact involving MESH particles is not supported (MESH-MESH contact is not implemented "
-                          "in Parmec either); use SPHERE particles for contact")
-            fail(cmd, "granular contact (spring > 0) is not supported yet by the dembridge front end")
-        self.granular.append((color1, color2, spring, damper, friction, rolling, drilling, kskn))
+            self._no_mesh_contact(cmd)
+        self.granular.append({"color1": color1, "color2": color2, "spring": float(spring), "damper": float(damper),
+                              "mus": float(mus), "mud": float(mud), "kskn": float(kskn)})
+
+    def contact_active(self):
+        """Some pairing (the default included) has spring > 0."""
+        default = 0.0
+        for g in self.granular:
+            if g["color1"] == 0:
+                default = g["spring"]
+        return default > 0 or any(g["spring"] > 0 for g in self.granular)
+
+    def _no_mesh_contact(self, cmd, adding_mesh=False):
+        if adding_mesh or any(p.kind == "MESH" for p in self.particles):
+            fail(cmd, "contact involving MESH particles is not supported (MESH-MESH contact is out of scope, "
+                      "and not implemented in Parmec either; MESH-SPHERE contact is not implemented); use SPHERE "
+                      "particles and OBSTACLEs for contact")
 
     def VELOCITY(self, parnum, linear=None, angular=None):
         cmd = "VELOCITY"

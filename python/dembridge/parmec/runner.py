@@ -82,7 +82,14 @@ class Runner:
                 a, b = P[s["part1"]].centre, P[s["part2"]].centre
                 longest = max(longest, math.dist(a, b))
         cutoff = max(2.0 * longest + 1.0, 1e-3 * span, 1.0)
-        for c in ["units si", "atom_style bpm/sphere", "atom_modify map array", "boundary s s s",
+        contact = m.contact_active()
+        if contact:
+            m._no_mesh_contact("DEM")
+            rmax = max(p.radius for p in P if p.kind == "SPHERE") if any(p.kind == "SPHERE" for p in P) else 0.0
+            skin = 0.1 * rmax if rmax > 0 else 1e-3
+            cutoff = max(cutoff, 2.0 * rmax + 2.0 * skin)
+        # with contact the neighbour bins need a box: shrink-wrapped with a minimum extent (m) instead of s
+        for c in ["units si", "atom_style bpm/sphere", "atom_modify map array", f"boundary {'m m m' if contact else 's s s'}",
                   f"comm_modify vel yes cutoff {_r(cutoff)}",
                   "region pbox block " + " ".join(f"{_r(lo[c] - 1.0)} {_r(hi[c] + 1.0)}" for c in range(3)),
                   "create_box 1 pbox", "thermo 0"]:
@@ -91,6 +98,15 @@ class Runner:
             x = p.centre
             self.cmd(f"create_atoms 1 single {_r(x[0])} {_r(x[1])} {_r(x[2])} units box")
         self.cmd("fix PJ all property/atom d2_pmJ 6")
+        if contact:
+            # spheres touch by colour (0: no contact shape, MESH/ANALYTICAL); a pair cutoff sizes the neighbour lists
+            self.cmd("fix PC all property/atom i_pmcolor ghost yes")
+            for i, p in enumerate(P):
+                self.cmd(f"set atom {i + 1} i_pmcolor {p.color if p.kind == 'SPHERE' else 0}")
+            self.cmd(f"pair_style zero {_r(max(2.0 * rmax, skin))}")
+            self.cmd("pair_coeff * *")
+            self.cmd(f"neighbor {_r(skin)} bin")
+            self.cmd("neigh_modify delay 0 every 1 check yes")
         for i, p in enumerate(P):
             a = i + 1
             self.cmd(f"set atom {a} diameter {_r(2 * p.radius)}")
@@ -106,6 +122,9 @@ class Runner:
                 ang = 2.0 * math.degrees(math.atan2(s, q[0]))
                 ax = [q[k] / s for k in (1, 2, 3)] if s > 0 else [0.0, 0.0, 1.0]
                 self.cmd(f"set atom {a} quat {_r(ax[0])} {_r(ax[1])} {_r(ax[2])} {_r(ang)}")
+        if contact:  # before the springs: Parmec adds the contact forces first
+            self.cmd(f"fix G all parmec/granular start parmec color i_pmcolor "
+                     f"file {self.write('granular.def', self._granular())}")
         if m.springs:
             self.cmd(f"fix S all parmec/spring start parmec{' eqm parmec' if m.quirks else ''} "
                      f"file {self.write('springs.def', self._springs())}")
@@ -151,6 +170,34 @@ class Runner:
                 line += f" friction {_r(s['friction'])} kskn {_r(s['kskn'])}"
             out.append(line)
         return "\n".join(out) + "\n"
+
+    def _granular(self):
+        """fix parmec/granular definitions: GRANULAR pairings and OBSTACLEs (callbacks tabulated as TSERIES)."""
+        m, out = self.model, []
+        self._defined = set()
+        for g in m.granular:
+            out.append(f"pairing {g['color1']} {g['color2']} spring {_r(g['spring'])} damper {_r(g['damper'])} "
+                       f"friction {_r(g['mus'])} {_r(g['mud'])} kskn {_r(g['kskn'])}")
+        out += self._obstacle_motion()
+        for k, ob in enumerate(m.obstacles):
+            line = f"obstacle {k} {len(ob['triangles'])} " + " ".join(_r(v) for t in ob["triangles"] for v in t)
+            line += " colors " + " ".join(str(c) for c in ob["colors"])
+            if ob["point"] is not None and (ob["linear"] or ob["angular"]):
+                line += " point " + " ".join(_r(v) for v in ob["point"])
+                for part in ("linear", "angular"):
+                    if ob[part] is not None:
+                        line += f" {part} " + " ".join(self._obstacle_names[(k, part)])
+            out.append(line)
+        return "\n".join(out) + "\n"
+
+    def _obstacle_motion(self):
+        """The TSERIES of the obstacles' velocities (callbacks tabulated at this DEM call's step times)."""
+        out, self._obstacle_names = [], {}
+        for k, ob in enumerate(self.model.obstacles):
+            for part in ("linear", "angular"):
+                if ob["point"] is not None and ob[part] is not None:
+                    self._obstacle_names[(k, part)] = self._triple(out, f"OB{k}{part[0]}", ob[part])
+        return out
 
     def _torsions(self):
         out = []
@@ -282,6 +329,12 @@ class Runner:
             out = []
             self._motion(out)
             self.cmd(f"fix_modify R file {self.write(f'motion_{self.lammps_step}.def', chr(10).join(out) + chr(10))}")
+            if m.contact_active() and any(ob["point"] is not None for ob in m.obstacles):
+                self._defined = set()
+                out = self._obstacle_motion()
+                if out:
+                    name = f"obstacles_{self.lammps_step}.def"
+                    self.cmd(f"fix_modify G file {self.write(name, chr(10).join(out) + chr(10))}")
         m.motion_changed = False
         # Parmec's loop: for (time = 0; time < duration; time += h)
         nsteps, t = 0, 0.0

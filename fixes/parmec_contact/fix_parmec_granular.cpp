@@ -29,7 +29,7 @@ namespace {
 
 Vec3 vec(const double *a) { return {a[0], a[1], a[2]}; }
 
-const char *const kExpected = "color, pairing, obstacle, tseries, file or start";
+const char *const kExpected = "color, pairing, obstacle, quirks, tseries, file or start";
 
 struct Term {  // one contact's contribution to its sphere, summed in key order
   int key;
@@ -62,6 +62,10 @@ FixParmecGranular::FixParmecGranular(LAMMPS *lmp, int narg, char **arg) :
 
 bool FixParmecGranular::parse_color(const std::vector<std::string> &tok, std::size_t &i, const std::string &where)
 {
+  if (tok[i] == "quirks") {
+    quirks_ = reader_.choice(tok, i, where, {"none", "parmec"}) == 1;
+    return true;
+  }
   if (tok[i] != "color") return false;
   reader_.need(tok, i, 1, "'type' or i_NAME (an integer per-atom property)", where);
   const std::string &c = tok[i + 1];
@@ -250,7 +254,7 @@ void FixParmecGranular::evaluate(Mode mode)
   // The obstacles move at the start of a committed step (not at the end of the previous one), so a setup
   // pass between runs sees the pose of the last committed step and repeats its forces.
   if (commit && !started_) {
-    for (auto &o : obstacles_) o.start(clock_, h, reader_.parmec_start);
+    for (auto &o : obstacles_) o.start(clock_, h, quirks_);
     started_ = true;
   } else if (commit) {
     for (auto &o : obstacles_) o.advance(clock_, h);
@@ -265,7 +269,7 @@ void FixParmecGranular::evaluate(Mode mode)
   std::vector<int> skip(nlocal);
   for (int i = 0; i < nlocal; i++) skip[i] = !(mask[i] & groupbit) || color_of(i) <= 0;
   for (std::size_t o = 0; o < obstacles_.size(); o++)
-    candidates_[o].build(obstacles_[o].mesh(), nlocal, x, radius, skip.data(), 0.0);
+    candidates_[o].build(obstacles_[o].mesh(), nlocal, x, radius, skip.data(), quirks_ ? neighbor->skin : 0.0);
 
   std::vector<int> slot(nlocal, -1);
   if (list_)
@@ -285,8 +289,9 @@ void FixParmecGranular::evaluate(Mode mode)
     const int ci = color_of(i);
     const Vec3 xi = vec(x[i]), vi = vec(v[i]), wi = vec(omega[i]);
     // key: the contact's; from: the record holding its state (the key itself, or a contact it continues)
+    // keep = false: Parmec's last force of a separating contact (quirks parmec), which is then dropped
     auto contact = [&](int key, int from, const pc::Pairing &p, const Vec3 &n, const Vec3 &arm, const Vec3 &vother,
-                       double depth, double meff) {
+                       double depth, double meff, bool keep) {
       if (from == 0) from = key;
       Vec3 s{0.0, 0.0, 0.0};
       for (int r = 0; r < records_.count(i); r++)
@@ -299,13 +304,18 @@ void FixParmecGranular::evaluate(Mode mode)
       const pc::ContactOutput out = pc::granular_force(p, {n, vij, depth, meff, h}, s, commit);
       const Vec3 t = mesh::cross(arm, out.f);
       terms.push_back({key, {out.f[0], out.f[1], out.f[2]}, {t[0], t[1], t[2]}});
-      fresh.insert(fresh.end(), {double(key), s[0], s[1], s[2]});
+      if (keep) fresh.insert(fresh.end(), {double(key), s[0], s[1], s[2]});
       if (key > 0) {
         counts_[0] += 0.5;
       } else {
         counts_[1] += 1.0;
         for (int k = 0; k < 3; k++) counts_[2 + k] -= out.f[k];
       }
+    };
+    auto has_record = [&](int key) {
+      for (int r = 0; r < records_.count(i); r++)
+        if (records_.key(i, r) == key) return true;
+      return false;
     };
     // spheres: Parmec's contact point is the midpoint of the centres, n points from j to i
     if (slot[i] >= 0) {
@@ -322,12 +332,13 @@ void FixParmecGranular::evaluate(Mode mode)
         const Vec3 d = mesh::sub(xi, xj);
         const double len = mesh::norm(d);
         const double depth = radius[i] + radius[j] - len;
-        if (depth <= 0.0 || len == 0.0) continue;
+        if (len == 0.0 || (depth <= 0.0 && !(quirks_ && has_record(static_cast<int>(tag[j]))))) continue;
         const Vec3 n = mesh::scale(d, 1.0 / len);
         const Vec3 point = mesh::scale(mesh::add(xi, xj), 0.5);
         const Vec3 armj = mesh::sub(point, xj);
         const Vec3 vj = mesh::add(vec(v[j]), mesh::cross(vec(omega[j]), armj));
-        contact(static_cast<int>(tag[j]), 0, p, n, mesh::sub(point, xi), vj, depth, pc::effective_mass(rmass[i], rmass[j]));
+        contact(static_cast<int>(tag[j]), 0, p, n, mesh::sub(point, xi), vj, depth, pc::effective_mass(rmass[i], rmass[j]),
+                depth > 0.0);
       }
     }
     // obstacles: the closest point of each touching triangle. A flat surface of several triangles acts once
@@ -341,24 +352,24 @@ void FixParmecGranular::evaluate(Mode mode)
       const int first = first_triangle_[o], last = first + tm.size();
       auto triangle_of = [&](int key) { return -key - 1 - first; };
       auto on_this_obstacle = [&](int key) { return key < 0 && -key - 1 >= first && -key - 1 < last; };
-      auto has_record = [&](int key) {
-        for (int r = 0; r < records_.count(i); r++)
-          if (records_.key(i, r) == key) return true;
-        return false;
-      };
       for (int pass = 0; pass < 2; pass++)
         for (const int *t = cand.begin(i); t != cand.begin(i) + cand.count(i); ++t) {
           const int key = -(first + *t + 1);
           if (has_record(key) != (pass == 0)) continue;
           const pc::Pairing &p = pairings_.find(ci, ob.color(*t));
           if (!p.touches()) continue;
-          const mesh::TriangleContact c = mesh::resolve_contact(tm, *t, xi, radius[i]);
+          mesh::TriangleContact c = mesh::resolve_contact(tm, *t, xi, radius[i]);
+          if (quirks_) {  // Parmec: every triangle's own closest point (no edge/corner ownership)
+            const mesh::TriangleNodes &tn = tm.nodes(*t);
+            c.delta = mesh::sub(pc::closest_point_on_triangle(tn[0], tn[1], tn[2], xi), xi);
+            c.kind = mesh::ContactKind::Face;
+          }
           if (c.kind == mesh::ContactKind::None) continue;
           const double len = mesh::norm(c.delta);
           const double depth = radius[i] - len;
-          if (depth <= 0.0 || len == 0.0) continue;
+          if (len == 0.0 || (depth <= 0.0 && !(quirks_ && pass == 0))) continue;
           int carry = 0;  // key of a coplanar neighbour's old contact whose spring this one continues
-          if (pass == 1 && c.kind == mesh::ContactKind::Face) {
+          if (pass == 1 && c.kind == mesh::ContactKind::Face && !quirks_) {  // quirks: a contact per triangle
             bool flat_neighbour_acts = false;
             for (std::size_t r = 0; r < fresh.size(); r += kRecord) {
               const int k2 = static_cast<int>(fresh[r]);
@@ -371,7 +382,7 @@ void FixParmecGranular::evaluate(Mode mode)
             }
           }
           const Vec3 n = mesh::scale(c.delta, -1.0 / len);
-          contact(key, carry, p, n, c.delta, ob.velocity_at(mesh::add(xi, c.delta)), depth, rmass[i]);
+          contact(key, carry, p, n, c.delta, ob.velocity_at(mesh::add(xi, c.delta)), depth, rmass[i], depth > 0.0);
         }
     }
     std::sort(terms.begin(), terms.end(), [](const Term &a, const Term &b) { return a.key < b.key; });

@@ -65,6 +65,7 @@ class FixParmecGranular : public state::PerAtomStateFix {
   LAMMPS_NS::NeighList *list_ = nullptr;
   double clock_ = 0.0;  // Parmec time t_n of the last committed step (accumulated steps, kept in restart files)
   bool started_ = false;
+  bool quirks_ = false;  // 'quirks parmec': Parmec's obstacle start, a contact per triangle, a last separating force
   double counts_[5] = {0, 0, 0, 0, 0};  // local: pair records, obstacle contacts, force on obstacles
   std::vector<double> scratch_;
 };

@@ -14,6 +14,10 @@ namespace dembridge::parmec_contact {
 using mesh::Vec3;
 using VelocityFn = std::function<Vec3(double)>;
 
+// The point of triangle (a, b, c) closest to p (plain geometry, every edge and corner active): Parmec's
+// per-triangle contact point, used by 'quirks parmec'.
+Vec3 closest_point_on_triangle(const Vec3 &a, const Vec3 &b, const Vec3 &c, const Vec3 &p);
+
 class Obstacle {
  public:
   // colors: one per triangle (each > 0). Throws mesh::MeshError for a bad triangle (1-based index) and

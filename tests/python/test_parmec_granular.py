@@ -73,6 +73,38 @@ def test_drop_on_static_obstacle_bounces_with_the_damper_restitution(tmp_path):
     assert errs[1] < 0.6 * errs[0], errs  # O(h)
 
 
+def drop_replay_parmec(h, steps, r=0.1, k=1e6, z=0.2, contacts=2):
+    """Parmec's own drop on the shared edge of the two triangles: one contact per triangle (each with the full
+    k and e_n), and in the step that finds the sphere separated each contact acts once more with its negative
+    depth before it is dropped (forces.ispc returns 'gone' after computing the force)."""
+    M = 1000.0 * 4.0 / 3.0 * math.pi * r ** 3
+    en = z * 2.0 * math.sqrt(k * M)
+    x, v, touching = r + 0.01 + 0.5 * h * -1.0, -1.0, False
+    for _ in range(steps):
+        d = r - x
+        f = 0.0
+        if d > 0 or touching:
+            f = contacts * (k * d + en * -v)
+        touching = d > 0
+        v += h * f / M
+        x += h * v
+    return x, v
+
+
+def test_parmec_quirks_drop_on_a_shared_edge_counts_both_triangles(tmp_path):
+    """--parmec-quirks: the sphere lands on the diagonal shared by the two triangles, and Parmec makes a contact
+    with each (twice the stiffness and damping) plus a last tensile force at separation: the replay of that
+    recurrence matches to 1e-12; the default counts the flat surface once (previous test)."""
+    script = tmp_path / "model.py"
+    script.write_text("import math\n" + DROP)
+    ns = run_script(str(script), ["200"], quirks=True, workdir=str(tmp_path / "wdq"))
+    x, v = drop_replay_parmec(ns["h"], len(ns["VZ"]))
+    assert abs(ns["VZ"][-1] - v) <= 1e-12 * abs(v), (ns["VZ"][-1], v)
+    assert abs(ns["PZ"][-1] - x) <= 1e-12 * abs(x), (ns["PZ"][-1], x)
+    x1, v1 = drop_replay(ns["h"], len(ns["VZ"]))
+    assert abs(v - v1) > 0.05  # the two semantics differ visibly
+
+
 SLIDE = """
 m = MATERIAL(1000.0, 1e9, 0.25)
 r, L, k, mu, g = 0.1, 5.0, 1e7, 0.3, 10.0

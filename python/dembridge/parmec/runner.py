@@ -123,7 +123,7 @@ class Runner:
                 ax = [q[k] / s for k in (1, 2, 3)] if s > 0 else [0.0, 0.0, 1.0]
                 self.cmd(f"set atom {a} quat {_r(ax[0])} {_r(ax[1])} {_r(ax[2])} {_r(ang)}")
         if contact:  # before the springs: Parmec adds the contact forces first
-            self.cmd(f"fix G all parmec/granular start parmec color i_pmcolor "
+            self.cmd(f"fix G all parmec/granular start parmec color i_pmcolor{' quirks parmec' if m.quirks else ''} "
                      f"file {self.write('granular.def', self._granular())}")
         if m.springs:
             self.cmd(f"fix S all parmec/spring start parmec{' eqm parmec' if m.quirks else ''} "

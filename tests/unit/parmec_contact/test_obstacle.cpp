@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 
 using namespace dembridge::parmec_contact;
@@ -100,4 +102,26 @@ TEST(Obstacle, SaveAndRestoreContinueBitwise)
   }
   for (int k = 0; k < 3; ++k) EXPECT_EQ(a.mesh().node(1, 2)[k], b.mesh().node(1, 2)[k]);
   EXPECT_EQ(a.point()[0], b.point()[0]);
+}
+
+TEST(Obstacle, ClosestPointOnTriangleMatchesASampledSearch)
+{
+  const Vec3 a{0, 0, 0}, b{2, 0, 0.5}, c{0.3, 1.5, -0.2};
+  std::srand(7);
+  for (int trial = 0; trial < 200; ++trial) {
+    const Vec3 p{4.0 * std::rand() / RAND_MAX - 1.5, 4.0 * std::rand() / RAND_MAX - 1.5, 2.0 * std::rand() / RAND_MAX - 1.0};
+    const Vec3 q = closest_point_on_triangle(a, b, c, p);
+    const double dq = dembridge::mesh::norm(dembridge::mesh::sub(p, q));
+    double best = 1e300;
+    const int n = 200;
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        const double u = double(i) / n, v = double(j) / n;
+        const Vec3 s{a[0] + u * (b[0] - a[0]) + v * (c[0] - a[0]), a[1] + u * (b[1] - a[1]) + v * (c[1] - a[1]),
+                     a[2] + u * (b[2] - a[2]) + v * (c[2] - a[2])};
+        best = std::min(best, dembridge::mesh::norm(dembridge::mesh::sub(p, s)));
+      }
+    EXPECT_LE(dq, best + 1e-12);      // never farther than any sampled point
+    EXPECT_GE(dq, best - 0.02);       // and as close as the sampling resolution allows
+  }
 }

@@ -115,10 +115,8 @@ bool FixParmecGranular::parse_obstacle(const std::vector<std::string> &tok, std:
   state::EntityWords w(reader_, tok, i, where,
                        "obstacle OID N x1 y1 z1 ... (9N numbers) color C | colors C1 ... CN [point x y z] "
                        "[linear S S S] [angular S S S]");
-  static std::unordered_set<long> ids;  // per parse; cleared below when a new fix is created
-  if (defs_.empty()) ids.clear();
   ObstacleDef d;
-  d.id = w.id(ids);
+  d.id = w.id(obstacle_ids_);
   const long n = w.integer(w.next("triangle count N"), "triangle count N");
   if (n < 1) w.fail("triangle count N must be >= 1, got " + std::to_string(n));
   for (long t = 0; t < n; t++) {

@@ -17,6 +17,7 @@
 
 #include <array>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 namespace dembridge {
@@ -56,6 +57,7 @@ class FixParmecGranular : public state::PerAtomStateFix {
     std::array<std::string, 6> velocity;  // linear x y z, angular x y z: a number or a tseries ID
   };
   std::vector<ObstacleDef> defs_;
+  std::unordered_set<long> obstacle_ids_;
   std::vector<parmec_contact::Obstacle> obstacles_;
   std::vector<std::array<springs::TimeSeries, 6>> velocity_;  // replaced by fix_modify ... tseries
   std::vector<int> first_triangle_;                           // global triangle index of each obstacle's first

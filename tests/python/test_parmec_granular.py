@@ -155,6 +155,7 @@ GRANULAR(1, 2, k, z)
 ma = 1000.0 * 4.0 / 3.0 * math.pi * 0.1 ** 3
 mb = 1000.0 * 4.0 / 3.0 * math.pi * 0.15 ** 3
 VA, VB = HISTORY('VX', a), HISTORY('VX', b)
+XA, XB = HISTORY('PX', a), HISTORY('PX', b)
 DEM(0.1, 2e-6)
 """
 
@@ -168,6 +169,42 @@ def test_two_spheres_head_on_conserve_momentum_with_the_expected_restitution(tmp
         assert abs(ma * va + mb * vb - p0) <= 1e-12 * abs(p0)
     e = (ns["VB"][-1] - ns["VA"][-1]) / 1.5
     assert abs(e - restitution(z)) < 0.005, (e, restitution(z))
+
+
+def head_on_replay(h, steps, z, quirks=False, k=1e6):
+    """Parmec's recurrence for the head-on pair along x (spec §1.1, §11): n = (x_a - x_b)/|x_a - x_b| for a,
+    v_ab = v_b - v_a, F_n = k d + e_n (v_ab . n) on a along n, the opposite on b; m_eff = 1/(1/m_a + 1/m_b)."""
+    ma = 1000.0 * 4.0 / 3.0 * math.pi * 0.1 ** 3
+    mb = 1000.0 * 4.0 / 3.0 * math.pi * 0.15 ** 3
+    en = z * 2.0 * math.sqrt(k * (1.0 / (1.0 / ma + 1.0 / mb)))
+    xa, xb, va, vb = 0.0 + 0.5 * h * 1.0, 0.3 + 0.5 * h * -0.5, 1.0, -0.5
+    touching = False
+    for _ in range(steps):
+        d = 0.25 - (xb - xa)
+        fn = 0.0
+        if d > 0 or (quirks and touching):
+            fn = k * d + en * -(vb - va)  # n = -1 for a
+        touching = d > 0
+        va += h * -fn / ma
+        vb += h * fn / mb
+        xa += h * va
+        xb += h * vb
+    return xa, xb, va, vb
+
+
+@pytest.mark.parametrize("quirks", [False, True])
+def test_two_spheres_head_on_equal_parmecs_recurrence(tmp_path, quirks):
+    """The head-on pair (z = 0.3) against the replay of Parmec's recurrence: positions and velocities of both
+    spheres to 1e-12 (quirks: the last tensile force at separation included)."""
+    script = tmp_path / "model.py"
+    script.write_text("import math\n" + HEAD_ON.replace("DEM(0.1, 2e-6)", "DEM(0.045, 2e-6)"))  # contact 0.033-0.037 s
+    ns = run_script(str(script), ["0.3"], quirks=quirks, workdir=str(tmp_path / "wd"))
+    xa, xb, va, vb = head_on_replay(2e-6, len(ns["VA"]), 0.3, quirks)
+    assert abs(ns["VA"][-1] - va) <= 1e-12 and abs(ns["VB"][-1] - vb) <= 1e-12, (ns["VA"][-1], va, ns["VB"][-1], vb)
+    assert abs(ns["XA"][-1] - xa) <= 1e-12 and abs(ns["XB"][-1] - xb) <= 1e-12, (ns["XA"][-1], xa, ns["XB"][-1], xb)
+    assert vb - va > 0.5  # they collided and separate (e = 0.37 of the approach speed 1.5)
+    other = head_on_replay(2e-6, len(ns["VA"]), 0.3, not quirks)
+    assert abs(other[2] - va) > 1e-6  # the last tensile force is visible
 
 
 MOVING = """

@@ -10,6 +10,7 @@
 #include "material_table.h"
 #include "model_syntax.h"
 
+#include <cstddef>
 #include <map>
 #include <string>
 #include <vector>
@@ -35,6 +36,17 @@ class PairGran : public LAMMPS_NS::Pair {
   void read_restart(FILE *fp) override;
   void write_restart_settings(FILE *fp) override;
   void read_restart_settings(FILE *fp) override;
+
+ protected:
+  // The neighbour loop, written once (pair_gran_contacts.h): evaluates the contacts of the list atoms
+  // ilist[ii], ii in [ii_from, ii_to), in list order, updating their history, and hands each contact to
+  // sink(i, j, ii, jj, res). It writes only those atoms' history slots, so disjoint ranges may run on
+  // threads. Call begin_contacts() once before and end_contacts() once after the ranges of a step.
+  template <class Sink> void for_each_contact(int ii_from, int ii_to, Sink &&sink);
+  void begin_contacts();
+  void end_contacts();
+  const std::string &style_name() const { return style_name_; }
+  bool force_on() const { return model_.force_on; }
 
  private:
   std::string style_name_;

@@ -1,24 +1,184 @@
-// The plugin's styles under `-sf omp` / `suffix omp`. LAMMPS looks for "STYLE/omp" first, and its
-// built-in gran/hooke/omp, gran/hooke/history/omp and gran/hertz/history/omp know neither the
-// LIGGGHTS syntax nor our contact history; registering these names makes the suffix run ours.
-// They are the same PairGran (not threaded yet: one thread computes, results equal the un-suffixed
-// style for any thread count).
-#include "pair_gran.h"
+#include "pair_gran_omp.h"
+
+#include "pair_gran_contacts.h"
 #include "style_registry.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "error.h"
+#include "force.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
+
+using namespace LAMMPS_NS;
 
 namespace dembridge {
 
+// List atoms per scheduling chunk: small enough to balance a frozen floor against a dense bed,
+// large enough to keep the scheduling cost negligible. Results do not depend on it.
+static constexpr int kChunkAtoms = 32;
+
+PairGranOMP::PairGranOMP(LAMMPS *lmp, const char *base_style) : PairGran(lmp, base_style) {}
+
+int PairGranOMP::requested_threads() const
+{
+#if defined(_OPENMP)
+  return std::max(1, comm->nthreads);  // set by `package omp N` (and -pk omp N; -sf omp alone: OMP_NUM_THREADS)
+#else
+  return 1;
+#endif
+}
+
+void PairGranOMP::init_style()
+{
+  PairGran::init_style();
+#if !defined(_OPENMP)
+  if (comm->nthreads > 1 && comm->me == 0)
+    error->warning(FLERR, "pair_style " + style_name() + "/omp: the dembridge plugin was built without OpenMP; using 1 thread");
+#endif
+  report_threads_ = true;
+}
+
+void PairGranOMP::compute(int eflag, int vflag)
+{
+  const int nthreads = requested_threads();
+  if (nthreads == 1) {  // the serial loop itself: nothing to gather
+    PairGran::compute(eflag, vflag);
+    threads_used_ = 1;
+    report_threads();
+    return;
+  }
+  ev_init(eflag, vflag);
+  if (!force_on()) return;
+  begin_contacts();
+  const int inum = list->inum;
+  const int nreceive = force->newton_pair ? atom->nlocal + atom->nghost : atom->nlocal;
+  index_list(nreceive);
+
+  double **f = atom->f, **torque = atom->torque;
+  const int nchunks_list = (inum + kChunkAtoms - 1) / kChunkAtoms;
+  const int nchunks_atoms = (nreceive + kChunkAtoms - 1) / kChunkAtoms;
+  std::exception_ptr failure;
+  std::mutex failure_lock;
+  std::atomic<bool> failed{false};
+  std::atomic<int> used{0};
+#if defined(_OPENMP)
+#pragma omp parallel num_threads(nthreads)
+#endif
+  {
+    used++;
+    // pass 1: contacts (and their history) of disjoint list ranges
+#if defined(_OPENMP)
+#pragma omp for schedule(dynamic, 1)
+#endif
+    for (int c = 0; c < nchunks_list; c++) {
+      if (failed) continue;  // an error stops the step; no exception may leave the parallel region
+      const int lo = c * kChunkAtoms, hi = std::min(inum, lo + kChunkAtoms);
+      try {
+        gather_.clear_contacts(lo, hi);
+        for_each_contact(lo, hi, [this](int, int, int ii, int jj, const gran::ContactResult &res) {
+          gather_.store(gather_.first_pair(ii) + std::size_t(jj), res.F, res.Ti, res.Tj);
+        });
+      } catch (...) {
+        std::lock_guard<std::mutex> hold(failure_lock);
+        if (!failure) failure = std::current_exception();
+        failed = true;
+      }
+    }
+    // pass 2 (after the implicit barrier): every atom sums its pairs in the serial order
+#if defined(_OPENMP)
+#pragma omp for schedule(dynamic, 4)
+#endif
+    for (int c = 0; c < nchunks_atoms; c++) {
+      if (failed) continue;
+      gather_.gather(c * kChunkAtoms, std::min(nreceive, (c + 1) * kChunkAtoms), f, torque);
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
+  threads_used_ = used;
+  if (evflag) tally_virial();
+  end_contacts();
+  report_threads();
+}
+
+// The gather index follows the neighbour list: rebuilt whenever LAMMPS rebuilt the lists.
+void PairGranOMP::index_list(int nreceive)
+{
+  const int natoms = atom->nlocal + atom->nghost;
+  if (gather_build_ == neighbor->ncalls && gather_.nreceive() == nreceive && gather_.inum() == list->inum &&
+      gather_.natoms() == std::max(natoms, nreceive))
+    return;
+  gather_.build(list->inum, list->ilist, list->numneigh, list->firstneigh, NEIGHMASK, natoms, nreceive);
+  gather_build_ = neighbor->ncalls;
+}
+
+// Energy/virial tallies in the serial loop's order, from the stored contacts (thermo steps only).
+void PairGranOMP::tally_virial()
+{
+  double **x = atom->x;
+  const int nlocal = atom->nlocal, newton_pair = force->newton_pair;
+  const int *ilist = list->ilist, *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = ilist[ii];
+    const std::size_t p0 = gather_.first_pair(ii);
+    for (int jj = 0; jj < numneigh[i]; jj++) {
+      if (!gather_.in_contact(p0 + jj)) continue;
+      const int j = firstneigh[i][jj] & NEIGHMASK;
+      const double *F = gather_.terms(p0 + jj).F;
+      ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, F[0], F[1], F[2], x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]);
+    }
+  }
+}
+
+void PairGranOMP::report_threads()
+{
+  if (!report_threads_) return;
+  report_threads_ = false;
+  if (comm->me == 0)
+    utils::logmesg(lmp, "dembridge pair_style {}/omp: {} OpenMP thread(s) per MPI task in the pair compute{}\n", style_name(),
+                   threads_used_, threads_used_ > 1 ? " (forces gathered in the serial order: identical to 1 thread)" : "");
+}
+
+void *PairGranOMP::extract(const char *name, int &dim)
+{
+  dim = 0;
+  if (std::string(name) == "nthreads") return &threads_used_;
+  return PairGran::extract(name, dim);
+}
+
+double PairGranOMP::memory_usage()
+{
+  return PairGran::memory_usage() + double(gather_.memory_bytes());
+}
+
+// One /omp creator per style name.
 template <const char *Base> static void *create_pair_omp(void *lmp)
 {
-  return new PairGran(static_cast<LAMMPS_NS::LAMMPS *>(lmp), Base);
+  return new PairGranOMP(static_cast<LAMMPS *>(lmp), Base);
 }
 
 #define DEMBRIDGE_PAIR_OMP(var, base)  \
   static constexpr char var[] = base; \
-  static RegisterStyle reg_omp_##var("pair", base "/omp", "dembridge " base " under the omp suffix", create_pair_omp<var>)
+  static RegisterStyle reg_omp_##var("pair", base "/omp", "dembridge " base ", threaded (package omp)", create_pair_omp<var>)
 
 DEMBRIDGE_PAIR_OMP(kOmpGranHooke, "gran/hooke");
 DEMBRIDGE_PAIR_OMP(kOmpGranHookeHistory, "gran/hooke/history");
 DEMBRIDGE_PAIR_OMP(kOmpGranHertzHistory, "gran/hertz/history");
+DEMBRIDGE_PAIR_OMP(kOmpGranHookeStiffness, "gran/hooke/stiffness");
+DEMBRIDGE_PAIR_OMP(kOmpGranHookeHistoryStiffness, "gran/hooke/history/stiffness");
+DEMBRIDGE_PAIR_OMP(kOmpGranHertzHistoryStiffness, "gran/hertz/history/stiffness");
+DEMBRIDGE_PAIR_OMP(kOmpGranHookeHistorySimple, "gran/hooke/history/simple");
+DEMBRIDGE_PAIR_OMP(kOmpGranHertzHistorySimple, "gran/hertz/history/simple");
+DEMBRIDGE_PAIR_OMP(kOmpGran, "gran");
 
 }  // namespace dembridge

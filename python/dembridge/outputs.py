@@ -32,8 +32,9 @@ def read_thermo(log):
     return runs
 
 
-def _dump_frames(path, item):
-    """(step, column names, rows) of each frame of a LAMMPS text dump; ``item`` = ATOMS or ENTRIES."""
+def _dump_frames(path, item=("ATOMS", "ENTRIES")):
+    """(step, column names, rows) of each frame of a LAMMPS text dump; ``item`` = ATOMS or ENTRIES
+    (both by default)."""
     with open(path) as fh:
         lines = fh.read().splitlines()
     i, step, n = 0, None, 0
@@ -43,7 +44,7 @@ def _dump_frames(path, item):
             step = int(lines[i + 1])
         elif line.startswith("ITEM: NUMBER OF"):
             n = int(lines[i + 1])
-        elif line.startswith("ITEM: " + item):
+        elif line.startswith(tuple("ITEM: " + k for k in ((item,) if isinstance(item, str) else item))):
             cols = line.split()[2:]
             rows = np.array([l.split() for l in lines[i + 1:i + 1 + n]], dtype=float).reshape(n, len(cols))
             yield step, cols, rows
@@ -73,6 +74,17 @@ def read_dump_atoms(path):
             rows = rows[np.argsort(rows[:, cols.index("id")], kind="stable")]
         frames.append((step, {c: rows[:, k] for k, c in enumerate(cols)}))
     return frames
+
+
+def read_dump_rows(path):
+    """{step: rows as lists of floats, in file order} of a text dump (``dump custom`` atoms or
+    ``dump local`` entries)."""
+    return {step: rows.tolist() for step, _, rows in _dump_frames(path)}
+
+
+def read_dump_by_id(path):
+    """{step: {first column as int (the atom or entry ID): the other columns as floats}} of a text dump."""
+    return {step: {int(r[0]): r[1:] for r in rows.tolist()} for step, _, rows in _dump_frames(path)}
 
 
 def read_history_csv(path):

@@ -14,6 +14,7 @@ import time
 import pytest
 
 from dembridge import lmp_executable, mpiexec, plugin_path
+from dembridge.outputs import read_dump_rows as read_dump
 
 
 def find_testpeer():
@@ -369,23 +370,6 @@ def parse_thermo(out, ncols):
             except ValueError:
                 pass
     return rows
-
-
-def read_dump(path):
-    out, lines, i = {}, open(path).read().split("\n"), 0
-    while i < len(lines):
-        if lines[i].startswith("ITEM: TIMESTEP"):
-            step = int(lines[i + 1])
-            i += 2
-        elif lines[i].startswith("ITEM: NUMBER OF ATOMS"):
-            n = int(lines[i + 1])
-            i += 2
-        elif lines[i].startswith("ITEM: ATOMS"):
-            out[step] = [[float(v) for v in l.split()] for l in lines[i + 1:i + 1 + n]]
-            i += 1 + n
-        else:
-            i += 1
-    return out
 
 
 def canonical(snaps):

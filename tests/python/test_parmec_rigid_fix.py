@@ -3,30 +3,13 @@
 joint reactions on 1, 2 and 4 ranks over 1000 steps, and a write_restart/read_restart split equals the
 continuous run bitwise. Also: joint constraints hold (drift of the joint points small and O(h))."""
 import math
-import subprocess
 
 import pytest
 
-from dembridge import lmp_executable, mpiexec, plugin_path
+from dembridge.outputs import read_dump_by_id as read_dump
+from lmp_runs import run_lmp
 
 N = 1000
-
-
-def read_dump(path):
-    out, lines, i = {}, open(path).read().split("\n"), 0
-    while i < len(lines):
-        if lines[i].startswith("ITEM: TIMESTEP"):
-            step = int(lines[i + 1])
-            i += 2
-        elif lines[i].startswith("ITEM: NUMBER OF"):
-            n = int(lines[i + 1])
-            i += 2
-        elif lines[i].startswith("ITEM: ATOMS"):
-            out[step] = {int(l.split()[0]): [float(v) for v in l.split()[1:]] for l in lines[i + 1:i + 1 + n]}
-            i += 1 + n
-        else:
-            i += 1
-    return out
 
 
 def chain_positions():
@@ -58,17 +41,6 @@ def deck(tmp, steps, write_at=None, read=None, h=1e-3, out="atoms.dump"):
                    "variable wx atom 2*sin(id*0.37)", "variable wy atom 2*cos(id*0.53)", "variable wz atom sin(id*1.7)",
                    "set group all omega v_wx v_wy v_wz", "variable vy atom 0.3*sin(id*0.11)",
                    "velocity all set 3.0 v_vy 0.0 units box"] + fix + post
-
-
-def run_lmp(tmp, lines, nprocs, name="in.deck"):
-    d = tmp / name
-    d.write_text("\n".join([f"plugin load {plugin_path()}"] + lines) + "\n")
-    cmd = [lmp_executable(), "-in", str(d), "-log", str(tmp / (name + ".log")), "-screen", "none", "-nocite"]
-    if nprocs > 1:
-        cmd = [mpiexec(), "-n", str(nprocs)] + cmd
-    p = subprocess.run(cmd, cwd=tmp, capture_output=True, text=True, timeout=900)
-    log = (tmp / (name + ".log")).read_text() if (tmp / (name + ".log")).exists() else ""
-    assert p.returncode == 0, p.stdout + p.stderr + log[-3000:]
 
 
 def joint_drift(atoms):

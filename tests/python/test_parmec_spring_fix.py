@@ -3,33 +3,15 @@ decomposition independence, restart continuation and bad input. Plugin from $DEM
 import csv
 import math
 import os
-import subprocess
 
 import pytest
 
-from dembridge import lmp_executable, mpiexec, new_lammps, plugin_path
+from dembridge import new_lammps
+from dembridge.outputs import read_dump_rows as read_dump
+from lmp_runs import run_lmp
 
 ORACLE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "parmec-kernels")  # copied from shared/oracle/parmec (tests/data/parmec-kernels/README.md)
 COLS = ["id", "LENGTH", "STROKE", "F", "SF", "FF", "SS"]
-
-
-def read_dump(path):
-    """{timestep: [rows of floats]} of a LAMMPS text dump (atom or local)."""
-    out, step, lines = {}, None, open(path).read().split("\n")
-    i = 0
-    while i < len(lines):
-        if lines[i].startswith("ITEM: TIMESTEP"):
-            step = int(lines[i + 1])
-            i += 2
-        elif lines[i].startswith("ITEM: NUMBER OF"):
-            n = int(lines[i + 1])
-            i += 2
-        elif lines[i].startswith("ITEM: ATOMS") or lines[i].startswith("ITEM: ENTRIES"):
-            out[step] = [[float(v) for v in l.split()] for l in lines[i + 1:i + 1 + n]]
-            i += 1 + n
-        else:
-            i += 1
-    return out
 
 
 def run_lines(lines, lmp=None):
@@ -395,18 +377,6 @@ def chain_deck(tmp, steps, n=40, restart_at=None, read=None, extra=()):
     if restart_at:
         body += [f"write_restart {restart_at}"]
     return body
-
-
-def run_lmp(tmp, lines, nprocs, name="in.deck"):
-    deck = tmp / name
-    deck.write_text("\n".join([f"plugin load {plugin_path()}"] + lines) + "\n")
-    cmd = [lmp_executable(), "-in", str(deck), "-log", str(tmp / (name + ".log")), "-screen", "none", "-nocite"]
-    if nprocs > 1:
-        cmd = [mpiexec(), "-n", str(nprocs)] + cmd
-    p = subprocess.run(cmd, cwd=tmp, capture_output=True, text=True, timeout=600)
-    log = (tmp / (name + ".log")).read_text() if (tmp / (name + ".log")).exists() else ""
-    assert p.returncode == 0, p.stdout + p.stderr + log[-3000:]
-    return log
 
 
 def last(dump):

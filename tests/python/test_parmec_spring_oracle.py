@@ -17,6 +17,7 @@ import os
 import pytest
 
 from dembridge import new_lammps
+from dembridge.outputs import read_dump_by_id as read_dump
 
 ORACLE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "parmec-kernels")  # copied from shared/oracle/parmec (tests/data/parmec-kernels/README.md)
 R_CUBE = math.sqrt(5.0 / 12.0)  # sphere with the unit cube's inertia (m = 1000, J = 1000/6)
@@ -35,24 +36,6 @@ def oracle(case, variant=""):
                 rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
             return meta, rows
     raise FileNotFoundError(d)
-
-
-def read_dump(path):
-    """{timestep: {id: [values]}} of a LAMMPS custom dump (id first)."""
-    out, lines, i = {}, open(path).read().split("\n"), 0
-    while i < len(lines):
-        if lines[i].startswith("ITEM: TIMESTEP"):
-            step = int(lines[i + 1])
-            i += 2
-        elif lines[i].startswith("ITEM: NUMBER OF"):
-            n = int(lines[i + 1])
-            i += 2
-        elif lines[i].startswith("ITEM: ATOMS"):
-            out[step] = {int(float(l.split()[0])): [float(v) for v in l.split()[1:]] for l in lines[i + 1:i + 1 + n]}
-            i += 1 + n
-        else:
-            i += 1
-    return out
 
 
 def cube_atoms(rows, prefixes):

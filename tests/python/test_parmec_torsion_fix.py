@@ -10,7 +10,9 @@ import subprocess
 
 import pytest
 
-from dembridge import lmp_executable, mpiexec, new_lammps, plugin_path
+from dembridge import lmp_executable, new_lammps, plugin_path
+from dembridge.outputs import read_dump_rows as read_dump
+from lmp_runs import run_lmp
 
 ORACLE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "parmec-kernels")  # copied from shared/oracle/parmec (tests/data/parmec-kernels/README.md)
 FIXED = os.path.join(ORACLE, "fixedQ1Q3")
@@ -19,25 +21,6 @@ COLS = ["id", "ROLL", "PITCH", "YAW", "TRQTOT_R", "TRQTOT_P", "TRQTOT_Y", "TRQSP
 GROUPS = {"angles": ["ROLL", "PITCH", "YAW"], "TRQTOT": ["TRQTOT_R", "TRQTOT_P", "TRQTOT_Y"],
           "TRQSPR": ["TRQSPR_R", "TRQSPR_P", "TRQSPR_Y"]}
 CUBE_R = math.sqrt(5.0 / 12.0)  # sphere of m = 1000 with J = 0.4 m r^2 = 1000/6 (the oracle's unit cube)
-
-
-def read_dump(path):
-    """{timestep: [rows of floats]} of a LAMMPS text dump (atom or local)."""
-    out, step, lines = {}, None, open(path).read().split("\n")
-    i, n = 0, 0
-    while i < len(lines):
-        if lines[i].startswith("ITEM: TIMESTEP"):
-            step = int(lines[i + 1])
-            i += 2
-        elif lines[i].startswith("ITEM: NUMBER OF"):
-            n = int(lines[i + 1])
-            i += 2
-        elif lines[i].startswith("ITEM: ATOMS") or lines[i].startswith("ITEM: ENTRIES"):
-            out[step] = [[float(v) for v in l.split()] for l in lines[i + 1:i + 1 + n]]
-            i += 1 + n
-        else:
-            i += 1
-    return out
 
 
 def oracle_rows(path):
@@ -403,18 +386,6 @@ def grid_deck(tmp, steps, nx=25, ny=20, restart_at=None, read=None, first=None):
                    "set group all omega v_wx v_wy v_wz", "variable vz atom 0.3*sin(id*0.37)",
                    "velocity all set 4 0.5 v_vz units box",
                    "neighbor 0.3 bin"] + fix + post
-
-
-def run_lmp(tmp, lines, nprocs, name="in.deck"):
-    deck = tmp / name
-    deck.write_text("\n".join([f"plugin load {plugin_path()}"] + lines) + "\n")
-    cmd = [lmp_executable(), "-in", str(deck), "-log", str(tmp / (name + ".log")), "-screen", "none", "-nocite"]
-    if nprocs > 1:
-        cmd = [mpiexec(), "-n", str(nprocs)] + cmd
-    p = subprocess.run(cmd, cwd=tmp, capture_output=True, text=True, timeout=600)
-    log = (tmp / (name + ".log")).read_text() if (tmp / (name + ".log")).exists() else ""
-    assert p.returncode == 0, p.stdout + p.stderr + log[-3000:]
-    return log
 
 
 def last(dump):

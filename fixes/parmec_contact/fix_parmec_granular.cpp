@@ -48,7 +48,7 @@ FixParmecGranular::FixParmecGranular(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, cmd_ + " needs per-atom radius, mass, omega and torque (atom_style sphere or bpm/sphere)");
   reader_.parse(std::vector<std::string>(arg + 3, arg + narg), "command line",
                 [this](const std::vector<std::string> &tok, std::size_t &i, const std::string &where) {
-                  return parse_color(tok, i, where) || parse_pairing(tok, i, where) || parse_obstacle(tok, i, where);
+                  return parse_option(tok, i, where) || parse_pairing(tok, i, where) || parse_obstacle(tok, i, where);
                 });
   build_obstacles();
   vector_flag = 1;
@@ -60,7 +60,7 @@ FixParmecGranular::FixParmecGranular(LAMMPS *lmp, int narg, char **arg) :
 
 // ------------------------------------------------------------------------------------------ parsing
 
-bool FixParmecGranular::parse_color(const std::vector<std::string> &tok, std::size_t &i, const std::string &where)
+bool FixParmecGranular::parse_option(const std::vector<std::string> &tok, std::size_t &i, const std::string &where)
 {
   if (tok[i] == "quirks") {
     quirks_ = reader_.choice(tok, i, where, {"none", "parmec"}) == 1;

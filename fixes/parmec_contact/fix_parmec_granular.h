@@ -42,7 +42,7 @@ class FixParmecGranular : public state::PerAtomStateFix {
 
   bool parse_pairing(const std::vector<std::string> &tok, std::size_t &i, const std::string &where);
   bool parse_obstacle(const std::vector<std::string> &tok, std::size_t &i, const std::string &where);
-  bool parse_color(const std::vector<std::string> &tok, std::size_t &i, const std::string &where);
+  bool parse_option(const std::vector<std::string> &tok, std::size_t &i, const std::string &where);
   void build_obstacles();
   int color_of(int i) const;
 

@@ -437,3 +437,33 @@ def test_front_end_bad_input(tmp_path, body, message):
     with pytest.raises((ParmecError, TypeError)) as e:
         run(tmp_path, PRE + body + "\n")
     assert message in str(e.value), str(e.value)
+
+
+BOUNCE = """
+# the shape of Parmec's examples/bounce.py: a default pairing, an obstacle, step = ratio * CRITICAL()
+mat = MATERIAL(1000.0, 1e6, 0.2)
+rad, kn, da = 0.5, 1e6, float(ARGV()[0])
+p = SPHERE((0, 0, 2 * rad), rad, mat, 1)
+OBSTACLE([(-1, -1, 0, 1, -1, 0, 0, 1, 0)], 2)
+GRANULAR(0, 0, kn, da, 0.0)
+GRAVITY(0.0, 0.0, -10.0)
+hcrit = CRITICAL()
+m = 1000.0 * 4.0 / 3.0 * math.pi * rad ** 3
+"""
+
+
+@pytest.mark.parametrize("damper", [0.0, 1.0])
+def test_critical_counts_the_pairings_that_can_act(tmp_path, damper):
+    """CRITICAL() of a contact-only model: (2/w)(sqrt(1 + xi^2) - xi) with w = sqrt(k/m) and xi the damper ratio
+    against the obstacle (m_eff = m); the sphere-sphere pairing (same colour, m_eff = m/2) gives a larger step."""
+    ns = run(tmp_path, BOUNCE, [str(damper)])
+    w = math.sqrt(1e6 / ns["m"])
+    expected = (2.0 / w) * (math.sqrt(1.0 + damper ** 2) - damper)
+    assert abs(ns["hcrit"] - expected) <= 1e-14 * expected, (ns["hcrit"], expected)
+
+
+def test_critical_of_springs_and_contacts_is_the_smaller(tmp_path):
+    body = BOUNCE + "q = SPHERE((5, 0, 2 * rad), rad, mat, 3)\nSPRING(q, (5, 0, 1), -1, (5, 0, 2), [-1, -1e10, 1, 1e10])\n" \
+        "hcrit2 = CRITICAL()\n"
+    ns = run(tmp_path, body, ["0.0"])
+    assert ns["hcrit2"] < ns["hcrit"]

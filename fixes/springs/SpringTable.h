@@ -27,7 +27,7 @@ class SpringTable {
 
   // Value and slope at s: the interval x_lo < s <= x_hi (a breakpoint selects its LEFT interval),
   // first/last interval extended linearly outside the table (no clamping).
-  Sample lookup(double s) const;
+  Sample lookup(double s) const;  // inline below: every spring looks up every step
   // Same search on the y column (curve must be strictly increasing, e.g. an unload curve).
   Inverse lookup_by_force(double f) const;
 
@@ -42,5 +42,27 @@ class SpringTable {
   static std::size_t left_interval(const std::vector<double>& col, double arg);
   std::vector<double> x_, y_;
 };
+
+// Binary search for lo with col[lo] < arg <= col[lo+1]; clamped to the first/last interval so that
+// arguments outside the table extrapolate linearly (spec §3, §17.9).
+inline std::size_t SpringTable::left_interval(const std::vector<double>& col, double arg) {
+  std::size_t lo = 0, hi = col.size();
+  while (hi > lo + 1) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if (arg > col[mid])
+      lo = mid;
+    else
+      hi = mid;
+  }
+  if (lo + 1 == col.size()) --lo;
+  return lo;
+}
+
+inline SpringTable::Sample SpringTable::lookup(double s) const {
+  const std::size_t lo = left_interval(x_, s);
+  const double slope = (y_[lo + 1] - y_[lo]) / (x_[lo + 1] - x_[lo]);
+  // value written as y_lo + slope (s - x_lo): round-off decides whether F == 0 exactly (spec §17.9)
+  return {y_[lo] + slope * (s - x_[lo]), slope};
+}
 
 }  // namespace dembridge::springs

@@ -15,6 +15,11 @@
 #include "error.h"
 #include "memory.h"
 #include "update.h"
+#include "utils.h"
+
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -369,130 +374,276 @@ void FixParmecSpring::evaluate(Mode mode)
   const int nlocal = atom->nlocal;
   reset_sums();
 
-  double **x = atom->x, **v = atom->v;
-  double **omega = atom->omega_flag ? atom->omega : nullptr;
-  double **quat = (atom->quat_flag && atom->quat) ? atom->quat : nullptr;
-  const double dt = update->dt;
-  const double tnow = update->atime + (update->ntimestep - update->atimestep) * dt;
-  const sp::Vec3 zero3{0, 0, 0};
+  // Record r of the evaluation order (atoms ascending, their records in order) = output row r.
+  first_.resize(nlocal + 1);
+  first_[0] = 0;
+  for (int i = 0; i < nlocal; i++) first_[i + 1] = first_[i] + records_.count(i);
+  const int total = first_[nlocal];
+  local_rows(total);
+  if (static_cast<int>(results_.size()) < total) results_.resize(total);
 
-  local_rows(static_cast<int>(records_.total(nlocal)));
-  int row = 0;
+  EvalContext ctx;
+  ctx.mode = mode;
+  ctx.dt = update->dt;
+  ctx.tnow = update->atime + (update->ntimestep - update->atimestep) * ctx.dt;
+  ctx.omega = atom->omega_flag ? atom->omega : nullptr;
+  ctx.quat = (atom->quat_flag && atom->quat) ? atom->quat : nullptr;
+  ctx.rmass = atom->rmass_flag ? atom->rmass : nullptr;
+  ctx.mass = atom->mass;
+  ctx.type = atom->type;
+  ctx.radius = atom->radius_flag ? atom->radius : nullptr;
 
-  for (int i = 0; i < nlocal; i++) {
-    for (int s = 0; s < records_.count(i); s++) {
-      double *slot = records_.record(i, s);
-      const int idx = records_.key(i, s);
-      const SpringDef &d = defs_[idx];
-
-      // current points (spec §2.2)
-      sp::Vec3 xj;
-      if (d.tag2 < 0) {
-        double xu[3];
-        domain->unmap(x[i], atom->image[i], xu);
-        xj = vec(xu);
-      } else {
-        xj = vec(x[i]);
-      }
-      const Rot Rj = quat ? Rot::of(quat[i]) : Rot::identity();
-      const sp::Vec3 a = zero(d.arm1) ? zero3 : Rj.apply(d.arm1);
-      int k = -1;
-      sp::Vec3 b = zero3, q, normal = d.nref;
-      if (d.tag2 >= 0) {
-        k = second_atom(idx, i, true, " above the longest spring");
-        const double r = sp::norm(vec(x[k]) - vec(x[i]));
-        if (r > cutghost_)
-          error->one(FLERR, fmt::format("{}: spring {} between atoms {} and {} is {:.6g} long, longer than the ghost "
-                                        "cutoff {:.6g}: raise 'comm_modify cutoff' above the longest spring",
-                                        cmd_, d.id, d.tag1, d.tag2, r, cutghost_));
-        const Rot Rk = quat ? Rot::of(quat[k]) : Rot::identity();
-        b = zero(d.arm2) ? zero3 : Rk.apply(d.arm2);
-        q = vec(x[k]) + b;
-        if (d.mode == sp::DirectionMode::Plane) normal = Rk.apply(d.nref);
-      } else {
-        q = d.arm2;
-      }
-
-      sp::SpringState state;
-      state.unpack(slot + 1);
-      sp::Vec3 F = zero3;
-      bool apply = true;
-      double eqm = -1.0;
-      if (mode == Mode::Setup && slot[kValid] != 0.0) {
-        F = vec(slot + kForce);
-      } else if (mode == Mode::Setup && reader_.parmec_start) {
-        apply = false;
-      } else {
-        sp::SpringKinematics kin;
-        kin.p = xj + a;
-        kin.q = q;
-        kin.normal = normal;
-        const sp::Vec3 wj = omega ? vec(omega[i]) : zero3;
-        const sp::Vec3 vk = k >= 0 ? vec(v[k]) : zero3;
-        const sp::Vec3 wk = (k >= 0 && omega) ? vec(omega[k]) : zero3;
-        kin.u = sp::relative_velocity(vec(v[i]), wj, a, k >= 0, vk, wk, b);
-        const sp::SpringFrame frame = sp::spring_frame(d.mode, d.d, kin);
-        sp::SpringStepInput in;
-        in.stroke0 = d.stroke0;
-        in.time = tnow - dt;  // Parmec's label t_n of the positions x_{n+1/2} (kernel doc §5)
-        in.dt = dt;
-        try {
-          eqm = spring_eqm(d, i, k, frame.z, q8_arm_);
-          in.equivalent_mass = std::isnan(eqm) ? 0.0 : eqm;
-          if (state.code >= 0) {
-            auto u = unspring_unload_.find(state.code);
-            in.unspring_unload = u == unspring_unload_.end() ? nullptr : u->second;
-          }
-          const sp::SpringForce f = sp::advance_spring(d.law, state, frame, in);
-          F = f.on_part1;
-        } catch (std::exception &e) {
-          error->one(FLERR, fmt::format("{}: spring {}: {}", cmd_, d.id, e.what()));
-        }
-        if (mode == Mode::Commit) {
-          state.pack(slot + 1);
-          for (int c = 0; c < 3; c++) slot[kForce + c] = F[c];
-          slot[kValid] = 1.0;
-        }
-      }
-
-      if (apply) {
-        const sp::Vec3 ta = sp::cross(a, F);
-        contribute_spring(i, idx, F, ta, 1.0);
-        if (k >= 0) contribute_spring(k, idx, F, sp::cross(b, F), -1.0);
-      }
-      double *out = array_local[row++];
-      out[0] = static_cast<double>(d.id);
-      state_columns(state, out + 1);
-      if (eqm < 0.0 && !std::isnan(eqm)) {
-        try {
-          eqm = spring_eqm(d, i, k, d.mode == sp::DirectionMode::Constant ? d.d : state.direction, q8_arm_);
-        } catch (std::exception &e) {
-          error->one(FLERR, fmt::format("{}: spring {}: {}", cmd_, d.id, e.what()));
-        }
-      }
-      out[7] = eqm;
-    }
+  // Phase 1, threaded: every spring from its own record and the atoms' (read-only) data; it writes its
+  // record, its output row and its result only, so the outcome does not depend on the thread count.
+  const int nthreads = std::max(1, comm->nthreads);
+#if defined(_OPENMP)
+#pragma omp parallel num_threads(nthreads) if (nthreads > 1 && nlocal > 1)
+  {
+#pragma omp single nowait
+    threads_used_ = std::max(threads_used_, omp_get_num_threads());
+#pragma omp for schedule(static)
+    for (int i = 0; i < nlocal; i++)
+      for (int s = 0, r = first_[i]; r < first_[i + 1]; s++, r++) evaluate_spring(ctx, i, s, r);
   }
+#else
+  for (int i = 0; i < nlocal; i++)
+    for (int s = 0, r = first_[i]; r < first_[i + 1]; s++, r++) evaluate_spring(ctx, i, s, r);
+#endif
 
-  collect_sums();
-
-  // Each atom's contributions summed in spring order: the result does not depend on the decomposition.
+  // Phase 2, serial: failures in spring order, then the contributions.
+  for (int r = 0; r < total; r++)
+    if (results_[r].failure != Failure::None) report_failure(results_[r]);
   double **f = atom->f;
   double **torque = atom->torque_flag ? atom->torque : nullptr;
-  double sum[6];
-  for (int i = 0; i < nlocal; i++) {
-    if (sums_.empty(i)) continue;
-    sums_.sum(i, sum);
+  auto add_to_atom = [&](int i, const double *sum) {
     for (int c = 0; c < 3; c++) f[i][c] += sum[c];
     if (torque)
       for (int c = 0; c < 3; c++) torque[i][c] += sum[3 + c];
+  };
+  if (!sums_.ordered()) {  // hub atoms: running sums in evaluation order (see OrderedSums)
+    for (int r = 0; r < total; r++) {
+      const SpringResult &res = results_[r];
+      if (!res.apply) continue;
+      contribute(res.i, res.key, res.ft1, 1.0);
+      if (res.k >= 0) contribute(res.k, res.key, res.ft2, -1.0);
+    }
+    collect_sums();
+    double sum[6];
+    for (int i = 0; i < nlocal; i++)
+      if (!sums_.empty(i)) {
+        sums_.sum(i, sum);
+        add_to_atom(i, sum);
+      }
+    return;
+  }
+  // Ordered: contributions to ghosts travel as entries to their owners; local atoms sum theirs straight
+  // from the results, in spring order (incidence lists rebuilt only when the atoms of a spring change),
+  // merged with the entries received, so the sums equal those of storing and sorting every entry.
+  inc_key_.resize(total);
+  inc_atom1_.resize(total);
+  inc_atom2_.resize(total);
+  for (int r = 0; r < total; r++) {
+    const SpringResult &res = results_[r];
+    inc_key_[r] = res.key;
+    inc_atom1_[r] = res.apply ? res.i : -1;
+    inc_atom2_[r] = (res.apply && res.k >= 0 && res.k < nlocal) ? res.k : -1;
+    if (res.apply && res.k >= nlocal) contribute(res.k, res.key, res.ft2, -1.0);
+  }
+  incidence_.update(nlocal, total, inc_key_.data(), inc_atom1_.data(), inc_atom2_.data());
+  collect_sums();
+
+#if defined(_OPENMP)
+#pragma omp parallel for num_threads(nthreads) schedule(static) if (nthreads > 1 && nlocal > 1)
+#endif
+  for (int i = 0; i < nlocal; i++) {
+    const state::LocalIncidence::Term *t0 = incidence_.begin(i), *t1 = incidence_.end(i);
+    double sum[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    if (sums_.empty(i)) {
+      if (t0 == t1) continue;
+      for (const state::LocalIncidence::Term *t = t0; t != t1; ++t) {
+        const SpringResult &res = results_[t->r];
+        const double sign = t->side ? -1.0 : 1.0;
+        const double *v = t->side ? res.ft2 : res.ft1;
+        for (int c = 0; c < 6; c++) sum[c] += sign * v[c];
+      }
+    } else {
+      state::OrderedSums::Term terms[state::OrderedSums::kMaxOrdered];
+      int n = 0;
+      for (const state::LocalIncidence::Term *t = t0; t != t1 && n < state::OrderedSums::kMaxOrdered; ++t) {
+        const SpringResult &res = results_[t->r];
+        terms[n++] = {t->key, t->side ? res.ft2 : res.ft1, t->side ? -1.0 : 1.0};
+      }
+      sums_.sum_with(i, terms, n, sum);
+    }
+    add_to_atom(i, sum);
   }
 }
 
-void FixParmecSpring::contribute_spring(int i, int idx, const sp::Vec3 &F, const sp::Vec3 &T, double sign)
+// One spring (record s of local atom i, evaluation order r). Thread-safe: reads atoms and definitions,
+// writes only record s, output row r and results_[r]; failures are recorded, reported by evaluate().
+void FixParmecSpring::evaluate_spring(const EvalContext &ctx, int i, int s, int r)
 {
-  const double ft[6] = {F[0], F[1], F[2], T[0], T[1], T[2]};
-  contribute(i, idx, ft, sign);
+  const sp::Vec3 zero3{0, 0, 0};
+  double **x = atom->x, **v = atom->v;
+  double *slot = records_.record(i, s);
+  const int idx = records_.key(i, s);
+  const SpringDef &d = defs_[idx];
+  SpringResult &res = results_[r];
+  res.i = i;
+  res.k = -1;
+  res.key = idx;
+  res.apply = false;
+  res.failure = Failure::None;
+
+  // current points (spec §2.2)
+  sp::Vec3 xj;
+  if (d.tag2 < 0) {
+    double xu[3];
+    domain->unmap(x[i], atom->image[i], xu);
+    xj = vec(xu);
+  } else {
+    xj = vec(x[i]);
+  }
+  const sp::Vec3 a = zero(d.arm1) ? zero3 : (ctx.quat ? Rot::of(ctx.quat[i]) : Rot::identity()).apply(d.arm1);
+  int k = -1;
+  sp::Vec3 b = zero3, q, normal = d.nref;
+  if (d.tag2 >= 0) {
+    k = second_atom_or_missing(idx, i, true);
+    if (k < 0) {
+      res.failure = Failure::Part2Missing;
+      return;
+    }
+    const double dist = sp::norm(vec(x[k]) - vec(x[i]));
+    if (dist > cutghost_) {
+      res.failure = Failure::TooLong;
+      res.value = dist;
+      return;
+    }
+    const bool plane = d.mode == sp::DirectionMode::Plane;
+    if (!zero(d.arm2) || plane) {
+      const Rot Rk = ctx.quat ? Rot::of(ctx.quat[k]) : Rot::identity();
+      if (!zero(d.arm2)) b = Rk.apply(d.arm2);
+      if (plane) normal = Rk.apply(d.nref);
+    }
+    q = vec(x[k]) + b;
+  } else {
+    q = d.arm2;
+  }
+
+  sp::SpringState state;
+  state.unpack(slot + 1);
+  sp::Vec3 F = zero3;
+  bool apply = true;
+  double eqm = -1.0;
+  const Mode mode = ctx.mode;
+  if (mode == Mode::Setup && slot[kValid] != 0.0) {
+    F = vec(slot + kForce);
+  } else if (mode == Mode::Setup && reader_.parmec_start) {
+    apply = false;
+  } else {
+    sp::SpringKinematics kin;
+    kin.p = xj + a;
+    kin.q = q;
+    kin.normal = normal;
+    const sp::Vec3 wj = ctx.omega ? vec(ctx.omega[i]) : zero3;
+    const sp::Vec3 vk = k >= 0 ? vec(v[k]) : zero3;
+    const sp::Vec3 wk = (k >= 0 && ctx.omega) ? vec(ctx.omega[k]) : zero3;
+    kin.u = sp::relative_velocity(vec(v[i]), wj, a, k >= 0, vk, wk, b);
+    const sp::SpringFrame frame = sp::spring_frame(d.mode, d.d, kin);
+    sp::SpringStepInput in;
+    in.stroke0 = d.stroke0;
+    in.time = ctx.tnow - ctx.dt;  // Parmec's label t_n of the positions x_{n+1/2} (kernel doc §5)
+    in.dt = ctx.dt;
+    try {
+      eqm = spring_eqm(ctx, d, i, k, frame.z);
+      in.equivalent_mass = std::isnan(eqm) ? 0.0 : eqm;
+      if (state.code >= 0) {
+        auto u = unspring_unload_.find(state.code);
+        in.unspring_unload = u == unspring_unload_.end() ? nullptr : u->second;
+      }
+      const sp::SpringForce f = sp::advance_spring(d.law, state, frame, in);
+      F = f.on_part1;
+    } catch (std::exception &e) {
+      record_failure(res, e.what());
+      return;
+    }
+    if (mode == Mode::Commit) {
+      state.pack(slot + 1);
+      for (int c = 0; c < 3; c++) slot[kForce + c] = F[c];
+      slot[kValid] = 1.0;
+    }
+  }
+
+  if (apply) {
+    const sp::Vec3 ta = sp::cross(a, F);
+    res.apply = true;
+    res.k = k;
+    for (int c = 0; c < 3; c++) {
+      res.ft1[c] = F[c];
+      res.ft1[3 + c] = ta[c];
+    }
+    if (k >= 0) {
+      const sp::Vec3 tb = sp::cross(b, F);
+      for (int c = 0; c < 3; c++) {
+        res.ft2[c] = F[c];
+        res.ft2[3 + c] = tb[c];
+      }
+    }
+  }
+  double *out = array_local[r];
+  out[0] = static_cast<double>(d.id);
+  state_columns(state, out + 1);
+  if (eqm < 0.0 && !std::isnan(eqm)) {
+    try {
+      eqm = spring_eqm(ctx, d, i, k, d.mode == sp::DirectionMode::Constant ? d.d : state.direction);
+    } catch (std::exception &e) {
+      record_failure(res, e.what());
+      return;
+    }
+  }
+  out[7] = eqm;
+}
+
+void FixParmecSpring::record_failure(SpringResult &res, const char *what)
+{
+  res.failure = Failure::Kernel;
+  res.apply = false;
+#if defined(_OPENMP)
+#pragma omp critical(dembridge_spring_failure)
+#endif
+  failure_text_[res.key] = what;
+}
+
+void FixParmecSpring::report_failure(const SpringResult &res)
+{
+  const SpringDef &d = defs_[res.key];
+  switch (res.failure) {
+    case Failure::Part2Missing:
+      second_atom_missing(res.key, " above the longest spring");
+    case Failure::TooLong:
+      error->one(FLERR, fmt::format("{}: spring {} between atoms {} and {} is {:.6g} long, longer than the ghost "
+                                    "cutoff {:.6g}: raise 'comm_modify cutoff' above the longest spring",
+                                    cmd_, d.id, d.tag1, d.tag2, res.value, cutghost_));
+    case Failure::Kernel:
+    case Failure::None:
+      break;
+  }
+  error->one(FLERR, fmt::format("{}: spring {}: {}", cmd_, d.id, failure_text_[res.key]));
+}
+
+void FixParmecSpring::post_force(int)
+{
+  evaluate(Mode::Commit);
+}
+
+// Under 'package omp N' the spring loop is threaded (OpenMP); say so once per run.
+void FixParmecSpring::post_run()
+{
+  const int used = threads_used_;
+  int most = 0;
+  MPI_Allreduce(&used, &most, 1, MPI_INT, MPI_MAX, world);
+  if (most > 1 && comm->me == 0) utils::logmesg(lmp, "{}: spring loop on {} OpenMP threads\n", cmd_, most);
+  threads_used_ = 0;
 }
 
 // CRITICAL (spec §13, kernel doc §5): per spring from the spring's EQM along its current direction
@@ -625,30 +776,21 @@ void FixParmecSpring::restart(char *buf)
 }
 
 // EQM (spec §12) of spring d along dir (zero: largest point mass) with the sphere inertia 0.4 m r^2
-// of its atoms i (part1) and k (part2, or -1). q8: Parmec's spring-force arm 2X - P (quirk Q8).
-double FixParmecSpring::spring_eqm(const SpringDef &d, int i, int k, const sp::Vec3 &dir, bool q8) const
+// of its atoms i (part1) and k (part2, or -1). q8_arm_: Parmec's spring-force arm 2X - P (quirk Q8).
+double FixParmecSpring::spring_eqm(const EvalContext &c, const SpringDef &d, int i, int k, const sp::Vec3 &dir) const
 {
-  const double *rmass = atom->rmass_flag ? atom->rmass : nullptr;
-  const double *radius = atom->radius_flag ? atom->radius : nullptr;
-  if (!rmass && !atom->mass) return NAN;  // no masses: EQM undefined (a ratio dashpot is an ERROR in init)
-  auto body = [&](int j, const sp::Vec3 &X) {
-    sp::BodyMass b;
-    b.mass = rmass ? rmass[j] : atom->mass[atom->type[j]];
-    const double J = radius ? 0.4 * b.mass * radius[j] * radius[j] : 0.0;
-    const double inv = J > 0.0 ? 1.0 / J : 0.0;
-    b.inv_inertia = {inv, 0, 0, 0, inv, 0, 0, 0, inv};
-    if (q8) b.centre = X;
-    return b;
-  };
-  if (!q8 && !zero(dir)) {
+  if (!c.rmass && !c.mass) return NAN;  // no masses: EQM undefined (a ratio dashpot is an ERROR in init)
+  auto mass_of = [&](int j) { return c.rmass ? c.rmass[j] : c.mass[c.type[j]]; };
+  if (!q8_arm_ && !zero(dir)) {
     // isotropic inertia: d^T M^-1 d = |d|^2/m + (|A|^2 |d|^2 - (A.d)^2)/J per body (the kernel's
     // equivalent_mass without the 3x3 matrices; equal to round-off)
     const double dd = sp::dot(dir, dir);
     double lambda = 0.0;
     auto add = [&](int j, const sp::Vec3 &A) {
-      const double m = rmass ? rmass[j] : atom->mass[atom->type[j]];
-      const double J = radius ? 0.4 * m * radius[j] * radius[j] : 0.0;
+      const double m = mass_of(j);
       lambda += dd / m;
+      if (zero(A)) return;  // a centre point: the term below is exactly 0 (finite directions)
+      const double J = c.radius ? 0.4 * m * c.radius[j] * c.radius[j] : 0.0;
       if (J > 0.0) {
         const double ad = sp::dot(A, dir);
         lambda += (sp::dot(A, A) * dd - ad * ad) / J;
@@ -659,13 +801,22 @@ double FixParmecSpring::spring_eqm(const SpringDef &d, int i, int k, const sp::V
     if (!(lambda > 0.0)) throw std::invalid_argument("EQM: the inverse mass matrix is not positive along the direction");
     return 1.0 / lambda;
   }
+  auto body = [&](int j, const sp::Vec3 &X) {
+    sp::BodyMass b;
+    b.mass = mass_of(j);
+    const double J = c.radius ? 0.4 * b.mass * c.radius[j] * c.radius[j] : 0.0;
+    const double inv = J > 0.0 ? 1.0 / J : 0.0;
+    b.inv_inertia = {inv, 0, 0, 0, inv, 0, 0, 0, inv};
+    if (q8_arm_) b.centre = X;
+    return b;
+  };
   // Correct arm: centre 0, point = body-frame arm (A = -arm). Q8: centre X0, point X0 + arm.
   const sp::BodyMass b1 = body(i, d.X1ref);
-  const sp::Vec3 p1 = q8 ? d.X1ref + d.arm1 : d.arm1;
-  const auto arm = q8 ? sp::EqmArm::ParmecQ8 : sp::EqmArm::Correct;
+  const sp::Vec3 p1 = q8_arm_ ? d.X1ref + d.arm1 : d.arm1;
+  const auto arm = q8_arm_ ? sp::EqmArm::ParmecQ8 : sp::EqmArm::Correct;
   if (k >= 0) {
     const sp::BodyMass b2 = body(k, d.X2ref);
-    return sp::equivalent_mass(b1, p1, &b2, q8 ? d.X2ref + d.arm2 : d.arm2, dir, arm);
+    return sp::equivalent_mass(b1, p1, &b2, q8_arm_ ? d.X2ref + d.arm2 : d.arm2, dir, arm);
   }
   return sp::equivalent_mass(b1, p1, nullptr, {0, 0, 0}, dir, arm);
 }

@@ -12,6 +12,7 @@
 #pragma once
 
 #include "definition_reader.h"
+#include "local_incidence.h"
 #include "per_atom_state_fix.h"
 
 #include "SpringGeometry.h"
@@ -33,6 +34,9 @@ class FixParmecSpring : public state::PerAtomStateFix {
   void init() override;
   void setup(int) override;
   void min_setup(int) override;
+  // Out of line (not the base's inline one): the benchmark's callgrind figure collects this symbol.
+  void post_force(int) override;
+  void post_run() override;
 
   void write_restart(FILE *fp) override;
   void restart(char *buf) override;
@@ -95,8 +99,36 @@ class FixParmecSpring : public state::PerAtomStateFix {
   mutable state::RecordIndex where_;  // spring index -> (local atom, record) of the states owned here
   std::unordered_map<long, int> id_index_;  // user spring ID -> spring index
   const double *owned_slot(int spring) const;
-  double spring_eqm(const SpringDef &d, int i, int k, const springs::Vec3 &dir, bool q8) const;
   double cutghost_ = 0.0;
+
+  // One evaluation: what every spring reads (set once per evaluate()).
+  struct EvalContext {
+    Mode mode = Mode::Commit;
+    double dt = 0.0, tnow = 0.0;
+    double **omega = nullptr, **quat = nullptr;
+    const double *rmass = nullptr, *mass = nullptr, *radius = nullptr;
+    const int *type = nullptr;
+  };
+  enum class Failure { None, Part2Missing, TooLong, Kernel };
+  // What one spring gives its atoms (force, torque per side), written by the (threaded) evaluation and
+  // contributed in spring order afterwards.
+  struct SpringResult {
+    double ft1[6], ft2[6];  // (F, a x F) on part1 with sign +1, (F, b x F) on part2 with sign -1
+    double value = 0.0;     // TooLong: the length
+    int i = 0, k = -1, key = 0;
+    bool apply = false;
+    Failure failure = Failure::None;
+  };
+  std::vector<int> first_;             // first evaluation index of each local atom's records
+  std::vector<SpringResult> results_;  // per evaluation index, reused from step to step
+  std::unordered_map<int, std::string> failure_text_;  // kernel messages by spring index
+  std::vector<int> inc_key_, inc_atom1_, inc_atom2_;    // per evaluation index: key, local atoms touched
+  state::LocalIncidence incidence_;
+  int threads_used_ = 0;  // most OpenMP threads of the spring loop in this run
+  void evaluate_spring(const EvalContext &ctx, int i, int s, int r);
+  void record_failure(SpringResult &res, const char *what);
+  [[noreturn]] void report_failure(const SpringResult &res);
+  double spring_eqm(const EvalContext &c, const SpringDef &d, int i, int k, const springs::Vec3 &dir) const;
 
 
   // parsing
@@ -110,7 +142,6 @@ class FixParmecSpring : public state::PerAtomStateFix {
   void critical();
   double crit_[2] = {0.0, 0.0};
   LAMMPS_NS::bigint crit_step_ = -1;
-  void contribute_spring(int i, int idx, const springs::Vec3 &F, const springs::Vec3 &T, double sign);
 };
 
 }  // namespace dembridge

@@ -35,19 +35,12 @@ void OrderedSums::reset(int nall)
   std::fill(count_.begin(), count_.begin() + nall, 0);
 }
 
-bool OrderedSums::add(int i, int key, const double *v, double sign)
+bool OrderedSums::add_unordered(int i, const double *v, double sign)
 {
-  if (!ordered_) {
-    double *e = entry(i, 0);
-    if (count_[i] == 0) std::fill(e, e + stride_, 0.0);
-    count_[i] = 1;
-    for (int c = 0; c < width_; c++) e[1 + c] += sign * v[c];
-    return true;
-  }
-  if (count_[i] >= per_atom_) return false;
-  double *e = entry(i, count_[i]++);
-  e[0] = key;
-  for (int c = 0; c < width_; c++) e[1 + c] = sign * v[c];
+  double *e = entry(i, 0);
+  if (count_[i] == 0) std::fill(e, e + stride_, 0.0);
+  count_[i] = 1;
+  for (int c = 0; c < width_; c++) e[1 + c] += sign * v[c];
   return true;
 }
 
@@ -90,12 +83,47 @@ void OrderedSums::sum(int i, double *out) const
 {
   const int n = count_[i];
   const double *e = entry(i, 0);
-  order_.resize(n);
-  for (int c = 0; c < n; c++) order_[c] = c;
-  std::sort(order_.begin(), order_.end(), [&](int l, int r) { return e[stride_ * l] < e[stride_ * r]; });
+  // Insertion sort of the few entries (at most kMaxOrdered) by key, on the stack: keys are distinct, so
+  // the order, and hence the rounded sum, is the same as with any other sort.
+  const double *sorted[kMaxOrdered];
+  for (int c = 0; c < n; c++) {
+    const double *x = e + stride_ * c;
+    int j = c;
+    for (; j > 0 && sorted[j - 1][0] > x[0]; j--) sorted[j] = sorted[j - 1];
+    sorted[j] = x;
+  }
   std::fill(out, out + width_, 0.0);
-  for (int c : order_)
-    for (int m = 0; m < width_; m++) out[m] += e[stride_ * c + 1 + m];
+  for (int c = 0; c < n; c++)
+    for (int m = 0; m < width_; m++) out[m] += sorted[c][1 + m];
+}
+
+void OrderedSums::sum_with(int i, const Term *terms, int n, double *out) const
+{
+  const int ne = count_[i];
+  const double *e = entry(i, 0);
+  // key, values, sign of every contribution; insertion sort by key (few, distinct keys)
+  struct Item {
+    double key;
+    const double *v;
+    double sign;
+  };
+  Item items[2 * kMaxOrdered];
+  int m = 0;
+  auto insert = [&](const Item &x) {
+    int j = m++;
+    for (; j > 0 && items[j - 1].key > x.key; j--) items[j] = items[j - 1];
+    items[j] = x;
+  };
+  for (int c = 0; c < ne; c++) insert({e[stride_ * c], e + stride_ * c + 1, 0.0});
+  for (int t = 0; t < n; t++) insert({static_cast<double>(terms[t].key), terms[t].v, terms[t].sign});
+  std::fill(out, out + width_, 0.0);
+  for (int c = 0; c < m; c++) {
+    const Item &x = items[c];
+    if (x.sign == 0.0)  // a stored entry: already signed
+      for (int w = 0; w < width_; w++) out[w] += x.v[w];
+    else
+      for (int w = 0; w < width_; w++) out[w] += x.sign * x.v[w];
+  }
 }
 
 }  // namespace dembridge::state

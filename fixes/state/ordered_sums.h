@@ -26,13 +26,31 @@ class OrderedSums {
   bool ordered() const { return ordered_; }
 
   void reset(int nall);                                        // before an evaluation
-  // sign * v to atom i; false if atom i already has every entry configured (internal error).
-  bool add(int i, int key, const double *v, double sign);
+  // sign * v to atom i; false if atom i already has every entry configured (internal error). Inline: it
+  // runs twice per entity and step.
+  bool add(int i, int key, const double *v, double sign)
+  {
+    if (!ordered_) return add_unordered(i, v, sign);
+    if (count_[i] >= per_atom_) return false;
+    double *e = entry(i, count_[i]++);
+    e[0] = key;
+    for (int c = 0; c < width_; c++) e[1 + c] = sign * v[c];
+    return true;
+  }
   int pack(int n, int first, double *buf) const;              // Fix::pack_reverse_comm
   // Fix::unpack_reverse_comm; false if an atom got more entries than configured (internal error).
   bool unpack(int n, const int *list, const double *buf);
   bool empty(int i) const { return count_[i] == 0; }
-  void sum(int i, double *out) const;                          // width values, key order
+  // width values, key order. Thread-safe for distinct atoms (no shared scratch).
+  void sum(int i, double *out) const;
+  // Atom i's entries merged with n further terms (sign * v, as add() would store them) of keys that
+  // are not among its entries, all summed in key order: equal to add()ing the terms, then sum().
+  struct Term {
+    int key;
+    const double *v;
+    double sign;
+  };
+  void sum_with(int i, const Term *terms, int n, double *out) const;
 
   std::size_t bytes() const { return buf_.capacity() * sizeof(double) + count_.capacity() * sizeof(int); }
 
@@ -41,7 +59,7 @@ class OrderedSums {
   bool ordered_ = true;
   std::vector<int> count_;
   std::vector<double> buf_;
-  mutable std::vector<int> order_;
+  bool add_unordered(int i, const double *v, double sign);
   double *entry(int i, int c) { return &buf_[(std::size_t(i) * per_atom_ + c) * stride_]; }
   const double *entry(int i, int c) const { return &buf_[(std::size_t(i) * per_atom_ + c) * stride_]; }
 };

@@ -88,15 +88,25 @@ std::vector<AtomSnapshot> PerAtomStateFix::snapshot_entity_atoms()
   return snap;
 }
 
-int PerAtomStateFix::second_atom(int key, int i, bool closest_image, const std::string &hint)
+int PerAtomStateFix::second_atom_or_missing(int key, int i, bool closest_image) const
 {
-  const long tag2 = atoms_[key].second;
-  int k = atom->map(tag2);
-  if (k < 0)
-    error->one(FLERR, fmt::format("{}: {}: part2 atom {} is not available to the owner of part1 atom {} (not a ghost, "
-                                  "or lost): raise 'comm_modify cutoff'{}", cmd_, who(key), tag2, atoms_[key].first,
-                                  hint));
-  if (closest_image && (domain->xperiodic || domain->yperiodic || domain->zperiodic)) k = domain->closest_image(i, k);
+  int k = atom->map(atoms_[key].second);
+  if (k >= 0 && closest_image && (domain->xperiodic || domain->yperiodic || domain->zperiodic))
+    k = domain->closest_image(i, k);
+  return k;
+}
+
+void PerAtomStateFix::second_atom_missing(int key, const char *hint)
+{
+  error->one(FLERR, fmt::format("{}: {}: part2 atom {} is not available to the owner of part1 atom {} (not a ghost, "
+                                "or lost): raise 'comm_modify cutoff'{}", cmd_, who(key), atoms_[key].second,
+                                atoms_[key].first, hint));
+}
+
+int PerAtomStateFix::second_atom(int key, int i, bool closest_image, const char *hint)
+{
+  const int k = second_atom_or_missing(key, i, closest_image);
+  if (k < 0) second_atom_missing(key, hint);
   return k;
 }
 
@@ -182,9 +192,9 @@ void PerAtomStateFix::reset_sums()
   sums_.reset(atom->nlocal + atom->nghost);
 }
 
-void PerAtomStateFix::contribute(int i, int key, const double *values, double sign)
+void PerAtomStateFix::contribution_overflow()
 {
-  if (!sums_.add(i, key, values, sign)) error->one(FLERR, cmd_ + ": internal error: too many contributions on one atom");
+  error->one(FLERR, cmd_ + ": internal error: too many contributions on one atom");
 }
 
 void PerAtomStateFix::collect_sums()

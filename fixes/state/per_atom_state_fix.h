@@ -112,7 +112,10 @@ class PerAtomStateFix : public LAMMPS_NS::Fix {
   std::vector<AtomSnapshot> snapshot_entity_atoms();
   // The local or ghost index of the second atom of entity key evaluated on local atom i (closest image
   // if asked); ERROR if it is not there (hint: how to fix it, appended).
-  int second_atom(int key, int i, bool closest_image, const std::string &hint = "");
+  // Not thread-safe when it fails (ERROR); second_atom_or_missing is, returning -1 instead.
+  int second_atom(int key, int i, bool closest_image, const char *hint = "");
+  int second_atom_or_missing(int key, int i, bool closest_image) const;
+  [[noreturn]] void second_atom_missing(int key, const char *hint);
 
   // init(): ERROR under run_style respa, and for two-atom entities without an atom map or without ghost
   // velocities (ghost_velocities: "<entities> between two atoms need ghost <what>", the message's start).
@@ -129,7 +132,10 @@ class PerAtomStateFix : public LAMMPS_NS::Fix {
   // Ordered sums of one evaluation: reset, contribute (sign * values to atom i, local or ghost), then
   // collect (reverse communication when two-atom entities exist) and sums_.sum(i) per local atom.
   void reset_sums();
-  void contribute(int i, int key, const double *values, double sign);
+  void contribute(int i, int key, const double *values, double sign)
+  {
+    if (!sums_.add(i, key, values, sign)) contribution_overflow();
+  }
   void collect_sums();
 
   // The global restart block of the entities' reference data: [n * sign, n x (first tag, second tag,
@@ -156,6 +162,7 @@ class PerAtomStateFix : public LAMMPS_NS::Fix {
   std::vector<std::pair<long, long>> atoms_;
   std::unordered_map<long, std::vector<int>> by_first_;  // first atom tag -> keys
   bool two_atom_ = false;
+  [[noreturn]] void contribution_overflow();
 
  protected:
   // Whether a record read from a restart file belongs to atom i (default: its key is an entity whose first

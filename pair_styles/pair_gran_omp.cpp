@@ -23,8 +23,7 @@ using namespace LAMMPS_NS;
 
 namespace dembridge {
 
-// List atoms per scheduling chunk: small enough to balance a frozen floor against a dense bed,
-// large enough to keep the scheduling cost negligible. Results do not depend on it.
+// Boundary atoms per scheduling chunk of the gather pass. Results do not depend on it.
 static constexpr int kChunkAtoms = 32;
 
 PairGranOMP::PairGranOMP(LAMMPS *lmp, const char *base_style) : PairGran(lmp, base_style) {}
@@ -60,13 +59,13 @@ void PairGranOMP::compute(int eflag, int vflag)
   ev_init(eflag, vflag);
   if (!force_on()) return;
   begin_contacts();
-  const int inum = list->inum;
   const int nreceive = force->newton_pair ? atom->nlocal + atom->nghost : atom->nlocal;
-  index_list(nreceive);
+  index_list(nreceive, nthreads);
 
   double **f = atom->f, **torque = atom->torque;
-  const int nchunks_list = (inum + kChunkAtoms - 1) / kChunkAtoms;
-  const int nchunks_atoms = (nreceive + kChunkAtoms - 1) / kChunkAtoms;
+  const bool keep_all = evflag;  // the virial tally walks every contact afterwards
+  const int nblocks = gather_.nblocks(), nboundary = gather_.nboundary();
+  const int nchunks_boundary = (nboundary + kChunkAtoms - 1) / kChunkAtoms;
   std::exception_ptr failure;
   std::mutex failure_lock;
   std::atomic<bool> failed{false};
@@ -76,31 +75,33 @@ void PairGranOMP::compute(int eflag, int vflag)
 #endif
   {
     used++;
-    // pass 1: contacts (and their history) of disjoint list ranges
 #if defined(_OPENMP)
-#pragma omp for schedule(dynamic, 1)
+    const int tid = omp_get_thread_num(), nt = omp_get_num_threads();
+#else
+    const int tid = 0, nt = 1;
 #endif
-    for (int c = 0; c < nchunks_list; c++) {
-      if (failed) continue;  // an error stops the step; no exception may leave the parallel region
-      const int lo = c * kChunkAtoms, hi = std::min(inum, lo + kChunkAtoms);
+    // pass 1: each block's rows in order by one thread (its interior atoms get the serial order)
+    for (int b = tid; b < nblocks; b += nt) {
       try {
-        gather_.clear_contacts(lo, hi);
-        for_each_contact(lo, hi, [this](int, int, int ii, int jj, const gran::ContactResult &res) {
-          gather_.store(gather_.first_pair(ii) + std::size_t(jj), res.F, res.Ti, res.Tj);
-        });
-      } catch (...) {
+        gather_.clear_contacts(gather_.block_begin(b), gather_.block_begin(b + 1));
+        for_each_contact(gather_.block_begin(b), gather_.block_begin(b + 1),
+                         [&](int i, int j, int ii, int jj, const gran::ContactResult &res) {
+                           gather_.add(gather_.first_pair(ii) + std::size_t(jj), i, j, res.F, res.Ti, res.Tj, f, torque, keep_all);
+                         });
+      } catch (...) {  // no exception may leave the parallel region; the error is raised after it
         std::lock_guard<std::mutex> hold(failure_lock);
         if (!failure) failure = std::current_exception();
         failed = true;
       }
     }
-    // pass 2 (after the implicit barrier): every atom sums its pairs in the serial order
 #if defined(_OPENMP)
-#pragma omp for schedule(dynamic, 4)
+#pragma omp barrier
+#pragma omp for schedule(dynamic, 1)
 #endif
-    for (int c = 0; c < nchunks_atoms; c++) {
+    // pass 2: the atoms where blocks meet sum their kept terms in the serial order
+    for (int c = 0; c < nchunks_boundary; c++) {
       if (failed) continue;
-      gather_.gather(c * kChunkAtoms, std::min(nreceive, (c + 1) * kChunkAtoms), f, torque);
+      gather_.gather_boundary(c * kChunkAtoms, std::min(nboundary, (c + 1) * kChunkAtoms), f, torque);
     }
   }
   if (failure) std::rethrow_exception(failure);
@@ -111,13 +112,13 @@ void PairGranOMP::compute(int eflag, int vflag)
 }
 
 // The gather index follows the neighbour list: rebuilt whenever LAMMPS rebuilt the lists.
-void PairGranOMP::index_list(int nreceive)
+void PairGranOMP::index_list(int nreceive, int nblocks)
 {
   const int natoms = atom->nlocal + atom->nghost;
   if (gather_build_ == neighbor->ncalls && gather_.nreceive() == nreceive && gather_.inum() == list->inum &&
-      gather_.natoms() == std::max(natoms, nreceive))
+      gather_.natoms() == std::max(natoms, nreceive) && gather_.nblocks() == nblocks)
     return;
-  gather_.build(list->inum, list->ilist, list->numneigh, list->firstneigh, NEIGHMASK, natoms, nreceive);
+  gather_.build(list->inum, list->ilist, list->numneigh, list->firstneigh, NEIGHMASK, natoms, nreceive, nblocks);
   gather_build_ = neighbor->ncalls;
 }
 
@@ -132,7 +133,7 @@ void PairGranOMP::tally_virial()
     const int i = ilist[ii];
     const std::size_t p0 = gather_.first_pair(ii);
     for (int jj = 0; jj < numneigh[i]; jj++) {
-      if (!gather_.in_contact(p0 + jj)) continue;
+      if (!gather_.kept(p0 + jj)) continue;
       const int j = firstneigh[i][jj] & NEIGHMASK;
       const double *F = gather_.terms(p0 + jj).F;
       ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, F[0], F[1], F[2], x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]);

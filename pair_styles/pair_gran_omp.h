@@ -3,9 +3,10 @@
 // suffix never falls back to LAMMPS's built-in gran/*/omp (which know neither the LIGGGHTS syntax
 // nor our contact history).
 //
-// Threads split the neighbour list by its atoms i: each contact, and its history slot, belongs to
-// one thread. Forces reach the atoms through PairForceGather (threads/), which reproduces the serial
-// order of every addition: the results are bit-identical to the plain style for any thread count.
+// Threads split the neighbour list into blocks of rows (atoms i): each contact, and its history
+// slot, belongs to one thread. Forces reach the atoms through PairForceGather (threads/), which
+// keeps the serial order of every addition: the results are bit-identical to the plain style for
+// any thread count.
 #pragma once
 
 #include "pair_force_gather.h"
@@ -30,7 +31,7 @@ class PairGranOMP : public PairGran {
   bool report_threads_ = true;  // log the threads used at the first compute of each run
 
   int requested_threads() const;
-  void index_list(int nreceive);
+  void index_list(int nreceive, int nblocks);
   void tally_virial();
   void report_threads();
 };

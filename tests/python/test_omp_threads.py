@@ -167,3 +167,16 @@ def test_two_ranks_two_threads(tmp_path):
     log, dump = _run(tmp_path, "np2sf2", pair, args=["-sf", "omp", "-pk", "omp", "2"], nprocs=2)
     assert _threads_used(log) == {2}
     assert dump == ref_dump and _thermo(log) == _thermo(ref_log)
+
+
+def test_contact_error_inside_a_thread_stops_cleanly(tmp_path):
+    # an ERROR raised by a worker thread (coincident spheres, tests/decks/in.coincident) must reach
+    # LAMMPS as the same clear message as on 1 thread, not terminate() the process from the thread
+    deck = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "decks", "in.coincident")
+    (tmp_path / "in.w").write_text(f"package omp 2\nplugin load {dembridge.plugin_path()}\nsuffix omp\ninclude {deck}\n")
+    res = subprocess.run([dembridge.lmp_executable(), "-in", "in.w", "-var", "dx", "0.0", "-log", "log"], cwd=tmp_path,
+                         capture_output=True, text=True, timeout=120, env=dict(os.environ, OMP_WAIT_POLICY="passive"))
+    out = res.stdout + res.stderr
+    assert res.returncode != 0
+    assert re.search(r"ERROR.*pair_style gran/hooke/history: atom 1 at .* and atom 2 at .* are coincident", out), out[-2000:]
+    assert "terminate called" not in out and "Segmentation" not in out

@@ -87,24 +87,33 @@ static void check_gather_equals_serial(bool newton)
     }
 
   PairForceGather g;
-  g.build(inum, L.ilist.data(), L.numneigh.data(), L.firstneigh.data(), kNeighMask, nall, nreceive);
   for (int split : {1, 2, 3, 7}) {
-    // pass 1 in 'split' ii ranges, stored in reverse range order (threads finish in any order)
-    for (int part = split - 1; part >= 0; part--) {
-      const int lo = inum * part / split, hi = inum * (part + 1) / split;
-      g.clear_contacts(lo, hi);
-      for (int ii = lo; ii < hi; ii++) {
-        const int i = L.ilist[ii];
-        for (int jj = 0; jj < L.numneigh[i]; jj++)
-          if (contacts[i][jj].touching) g.store(g.first_pair(ii) + jj, contacts[i][jj].F, contacts[i][jj].Ti, contacts[i][jj].Tj);
-      }
-    }
+    g.build(inum, L.ilist.data(), L.numneigh.data(), L.firstneigh.data(), kNeighMask, nall, nreceive, split);
+    ASSERT_EQ(split, g.nblocks());
     std::vector<double> fg = f0, tg = t0;
     std::vector<double *> fp(nall), tp(nall);
     for (int k = 0; k < nall; k++) fp[k] = &fg[3 * k], tp[k] = &tg[3 * k];
-    for (int part = 0; part < split; part++) g.gather(nreceive * part / split, nreceive * (part + 1) / split, fp.data(), tp.data());
-    EXPECT_EQ(0, std::memcmp(fg.data(), fs.data(), fs.size() * sizeof(double))) << "forces, " << split << " ranges";
-    EXPECT_EQ(0, std::memcmp(tg.data(), ts.data(), ts.size() * sizeof(double))) << "torques, " << split << " ranges";
+    // pass 1 block by block in reverse order (threads run in any order relative to each other)
+    for (int b = split - 1; b >= 0; b--) {
+      g.clear_contacts(g.block_begin(b), g.block_begin(b + 1));
+      for (int ii = g.block_begin(b); ii < g.block_begin(b + 1); ii++) {
+        const int i = L.ilist[ii];
+        for (int jj = 0; jj < L.numneigh[i]; jj++) {
+          const Contact &c = contacts[i][jj];
+          if (c.touching)
+            g.add(g.first_pair(ii) + jj, i, L.firstneigh[i][jj] & kNeighMask, c.F, c.Ti, c.Tj, fp.data(), tp.data(), split == 3);
+        }
+      }
+    }
+    for (int part = 0; part < split; part++)
+      g.gather_boundary(g.nboundary() * part / split, g.nboundary() * (part + 1) / split, fp.data(), tp.data());
+    EXPECT_EQ(0, std::memcmp(fg.data(), fs.data(), fs.size() * sizeof(double))) << "forces, " << split << " blocks";
+    EXPECT_EQ(0, std::memcmp(tg.data(), ts.data(), ts.size() * sizeof(double))) << "torques, " << split << " blocks";
+    if (split == 1) {
+      EXPECT_EQ(0, g.nboundary());
+    } else {
+      EXPECT_GT(g.nboundary(), 0);  // random lists: the gather pass is exercised
+    }
   }
   // the gather must actually have changed something (the test is not vacuous)
   EXPECT_NE(0, std::memcmp(fs.data(), f0.data(), fs.size() * sizeof(double)));
@@ -113,18 +122,39 @@ static void check_gather_equals_serial(bool newton)
 TEST(PairForceGather, BitIdenticalToSerialLoopNewtonOff) { check_gather_equals_serial(false); }
 TEST(PairForceGather, BitIdenticalToSerialLoopNewtonOn) { check_gather_equals_serial(true); }
 
-TEST(PairForceGather, ClearedContactsContributeNothing)
+TEST(PairForceGather, SeparatedBoundaryPairContributesNothing)
 {
-  int ilist[1] = {0}, numneigh[2] = {1, 0}, row0[1] = {1};
-  int *firstneigh[2] = {row0, nullptr};
+  // atoms 0 and 1, each with a row, rows in two blocks: atom 1 is named by block 0, so on the boundary
+  int ilist[2] = {0, 1}, numneigh[2] = {1, 1}, row0[1] = {1}, row1[1] = {0};
+  int *firstneigh[2] = {row0, row1};
   PairForceGather g;
-  g.build(1, ilist, numneigh, firstneigh, kNeighMask, 2, 2);
+  g.build(2, ilist, numneigh, firstneigh, kNeighMask, 2, 2, 2);
+  ASSERT_EQ(2, g.nboundary());
   const double F[3] = {1, 2, 3}, T[3] = {4, 5, 6};
-  g.clear_contacts(0, 1);
-  g.store(g.first_pair(0), F, T, T);
-  g.clear_contacts(0, 1);  // next step: the pair separated
   double f[2][3] = {{0, 0, 0}, {0, 0, 0}}, t[2][3] = {{0, 0, 0}, {0, 0, 0}};
   double *fp[2] = {f[0], f[1]}, *tp[2] = {t[0], t[1]};
-  g.gather(0, 2, fp, tp);
+  g.clear_contacts(0, 2);
+  g.add(g.first_pair(0), 0, 1, F, T, T, fp, tp, false);
+  g.clear_contacts(0, 2);  // next step: the pair separated
+  g.gather_boundary(0, g.nboundary(), fp, tp);
   for (int k = 0; k < 3; k++) EXPECT_EQ(0.0, f[0][k] + f[1][k] + t[0][k] + t[1][k]);
+}
+
+TEST(PairForceGather, SpatiallySortedListHasThinBoundary)
+{
+  // a 1-d chain sorted in space (neighbours within 3 places): two blocks meet in a few atoms
+  const int n = 1000;
+  std::vector<int> ilist(n), numneigh(n);
+  std::vector<std::vector<int>> rows(n);
+  std::vector<int *> firstneigh(n);
+  for (int i = 0; i < n; i++) {
+    ilist[i] = i;
+    for (int d = 1; d <= 3 && i + d < n; d++) rows[i].push_back(i + d);
+    numneigh[i] = int(rows[i].size());
+    firstneigh[i] = rows[i].data();
+  }
+  PairForceGather g;
+  g.build(n, ilist.data(), numneigh.data(), firstneigh.data(), kNeighMask, n, n, 2);
+  EXPECT_LE(g.nboundary(), 3);
+  EXPECT_GT(g.nboundary(), 0);
 }

@@ -12,6 +12,8 @@
 #include "pair_force_gather.h"
 #include "pair_gran.h"
 
+#include <vector>
+
 namespace dembridge {
 
 class PairGranOMP : public PairGran {
@@ -26,6 +28,7 @@ class PairGranOMP : public PairGran {
 
  private:
   threads::PairForceGather gather_;
+  std::vector<double> row_weight_;  // expected cost per list row, for the blocks' balance
   LAMMPS_NS::bigint gather_build_ = -1;  // neighbor->ncalls when the gather index was built
   int threads_used_ = 1;
   bool report_threads_ = true;  // log the threads used at the first compute of each run

@@ -6,7 +6,7 @@
 namespace dembridge::threads {
 
 void PairForceGather::build(int inum, const int *ilist, const int *numneigh, int *const *firstneigh, int neighmask, int natoms,
-                            int nreceive, int nblocks)
+                            int nreceive, int nblocks, const double *row_weight)
 {
   natoms_ = std::max(natoms, nreceive);
   nreceive_ = nreceive;
@@ -16,13 +16,14 @@ void PairForceGather::build(int inum, const int *ilist, const int *numneigh, int
     offset_[ii + 1] = offset_[ii] + std::size_t(numneigh[ilist[ii]]);
     list_pos_[ilist[ii]] = ii;
   }
-  // blocks of about npairs / nblocks entries each (the work is per entry, not per atom)
+  // blocks of about equal work (by default: entries, not atoms)
   nblocks = std::max(1, nblocks);
+  std::vector<double> work(std::size_t(inum) + 1, 0.0);
+  for (int ii = 0; ii < inum; ii++) work[ii + 1] = work[ii] + (row_weight ? row_weight[ii] : double(numneigh[ilist[ii]]));
   block_.assign(std::size_t(nblocks) + 1, inum);
   block_[0] = 0;
   for (int b = 1; b < nblocks; b++)
-    block_[b] = int(std::lower_bound(offset_.begin(), offset_.end() - 1, npairs() * std::size_t(b) / std::size_t(nblocks)) -
-                    offset_.begin());
+    block_[b] = int(std::lower_bound(work.begin(), work.end() - 1, work[inum] * b / nblocks) - work.begin());
 
   // owner block of every atom: the block of its row, else of the first row naming it; an atom
   // named by rows of another block is on the boundary

@@ -25,12 +25,13 @@ struct PairTerms {
 
 class PairForceGather {
  public:
-  // Index a half neighbour list once per rebuild, cut into nblocks blocks of about equal numbers of
-  // entries. Atoms with index < nreceive receive their share as the second atom of a pair (nlocal
-  // with newton off, nlocal + nghost with newton on); entries are masked with neighmask. natoms
-  // bounds every atom index in the list.
+  // Index a half neighbour list once per rebuild, cut into nblocks blocks of about equal work:
+  // row_weight[ii] (the expected cost of row ii), or the number of entries when null. Atoms with
+  // index < nreceive receive their share as the second atom of a pair (nlocal with newton off,
+  // nlocal + nghost with newton on); entries are masked with neighmask. natoms bounds every atom
+  // index in the list.
   void build(int inum, const int *ilist, const int *numneigh, int *const *firstneigh, int neighmask, int natoms,
-             int nreceive, int nblocks);
+             int nreceive, int nblocks, const double *row_weight = nullptr);
 
   int inum() const { return offset_.empty() ? -1 : int(offset_.size()) - 1; }
   int natoms() const { return natoms_; }

@@ -16,11 +16,21 @@ of the pair section for both codes, and the target verdict (plugin loop speed-up
 Sanity (exit 1 on failure): the plugin's thermo output on 2 threads equals its 1-thread output
 exactly (the threaded styles are bit-identical to 1 thread) and its log reports 2 threads.
 
+--callgrind (load-independent, for a shared machine): instructions per MD step of every thread,
+from callgrind runs of --cg-steps and 3x --cg-steps steps (the difference removes set-up), with
+OMP_WAIT_POLICY=passive so waiting threads execute nothing. Printed per code: Ir/step on 1 thread,
+on N threads the sum over threads (the threading overhead) and the busiest thread, and the bound
+1-thread Ir / busiest thread's Ir: the speed-up if every instruction cost the same time and the
+threads never waited for each other except at the end of the step (cache and memory effects not
+counted). callgrind runs 2 at a time; ~15 min at a load of 10.
+
 Outputs in bench/out/threads/ (git-ignored): logs and results.md.
 
 usage: /work/main/.venv/bin/python bench/run_threads_bench.py [--steps 1000] [--rounds 3] [--threads 2]
-           [--model hooke|hertz] [--plugin PATH] [--quick]
+           [--model hooke|hertz] [--plugin PATH] [--quick] [--callgrind [--cg-steps 10] [--no-wall]]
 """
+import concurrent.futures
+import glob
 import argparse
 import datetime
 import math
@@ -53,6 +63,62 @@ def chute_cmd(model, nsteps, threads, plugin, log):
     return cmd
 
 
+def callgrind_thread_totals(out_prefix):
+    """Ir of each thread of one callgrind run (--separate-threads=yes writes one file per thread)."""
+    totals = []
+    for path in sorted(glob.glob(out_prefix + "-*")):
+        with open(path, errors="replace") as fh:
+            for line in fh:
+                if line.startswith("totals:") or line.startswith("summary:"):
+                    totals.append(int(line.split()[1]))
+                    break
+    return totals
+
+
+def callgrind_run(model, nsteps, threads, plugin, tag):
+    """Per-thread Ir of one run under callgrind (whole program: set-up included)."""
+    raw_lmp = os.path.join(DATA.rsplit("/share/", 1)[0], "lmp")  # the binary behind the venv's lmp launcher
+    out = os.path.join(OUT, f"cg.{tag}")
+    for old in glob.glob(out + "-*"):
+        os.remove(old)
+    env = dict(os.environ, OMP_NUM_THREADS="1", OMP_WAIT_POLICY="passive", LD_LIBRARY_PATH=os.path.join(VENV, "lib"))
+    cmd = ["valgrind", "--tool=callgrind", "--separate-threads=yes", f"--callgrind-out-file={out}"] + \
+        chute_cmd(model, nsteps, threads, plugin, os.path.join(OUT, f"cg.{tag}.log"))
+    cmd[cmd.index(LMP)] = raw_lmp
+    with open(os.path.join(OUT, f"cg.{tag}.stdout"), "w") as fh:
+        p = subprocess.run(cmd, cwd=HERE, env=env, stdout=fh, stderr=subprocess.STDOUT, timeout=14400)
+    if p.returncode != 0:
+        sys.exit(f"callgrind run {tag} failed (rc {p.returncode}), see {out}.stdout")
+    return [t for t in callgrind_thread_totals(out) if t > 0]
+
+
+def callgrind_table(a, plugin):
+    """Ir per MD step per thread: (3S-step run - S-step run) / 2S, for both codes, 1 and N threads."""
+    jobs = {}
+    with concurrent.futures.ThreadPoolExecutor(max_workers=2) as ex:
+        for code, plg in (("plg", plugin), ("lmp", None)):
+            for nt in (1, a.threads):
+                for steps in (a.cg_steps, 3 * a.cg_steps):
+                    jobs[(code, nt, steps)] = ex.submit(callgrind_run, a.model, steps, nt, plg, f"{code}.t{nt}.s{steps}")
+    res = {k: f.result() for k, f in jobs.items()}
+    rows = ["", f"## callgrind: Ir per MD step ({a.cg_steps} -> {3 * a.cg_steps} steps, OMP_WAIT_POLICY=passive)", "",
+            f"| code | 1 thread | {a.threads} threads: sum | busiest thread | overhead | bound t1 / busiest |",
+            "|---|---|---|---|---|---|"]
+    bounds = {}
+    for code in ("plg", "lmp"):
+        per_step = {}
+        for nt in (1, a.threads):
+            short, long_ = res[(code, nt, a.cg_steps)], res[(code, nt, 3 * a.cg_steps)]
+            # threads are listed in creation order in both runs (main thread first)
+            per_step[nt] = [(l - s) / (2 * a.cg_steps) for s, l in zip(short, long_)]
+        t1 = sum(per_step[1])
+        tn = per_step[a.threads]
+        bounds[code] = t1 / max(tn)
+        rows.append(f"| {'dembridge' if code == 'plg' else 'built-in'} | {t1 / 1e6:.2f} M | {sum(tn) / 1e6:.2f} M | "
+                    f"{max(tn) / 1e6:.2f} M | {100 * (sum(tn) / t1 - 1):+.1f} % | {bounds[code]:.3f} |")
+    return rows, bounds
+
+
 def parse(log):
     """Loop time, loop CPU seconds, Pair section avg time, thermo rows, pair threads reported, errors."""
     text = open(log, errors="replace").read()
@@ -75,25 +141,8 @@ def parse(log):
             "errors": [l for l in text.splitlines() if l.startswith("ERROR")]}
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--steps", type=int, default=1000)
-    ap.add_argument("--rounds", type=int, default=3)
-    ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--model", choices=["hooke", "hertz"], default="hooke")
-    ap.add_argument("--plugin", default=os.path.join(REPO, "build", "dembridgeplugin.so"))
-    ap.add_argument("--quick", action="store_true", help="200 steps, 1 round: checks that everything runs")
-    a = ap.parse_args()
-    if a.quick:
-        a.steps, a.rounds = 200, 1
-    os.makedirs(OUT, exist_ok=True)
-    plugin = os.path.join(OUT, "dembridgeplugin.so")  # a rebuild during the run does not change what is measured
-    shutil.copy2(a.plugin, plugin)
-    env = dict(os.environ, OMP_NUM_THREADS="1")
-    load_before = uptime()
-    print(f"{datetime.datetime.now():%Y-%m-%d %H:%M}  chute {a.model}, {a.steps} steps, {a.rounds} rounds, "
-          f"1 vs {a.threads} threads\nuptime before: {load_before}", flush=True)
-
+def wall_table(a, plugin, env):
+    """Interleaved wall-time rounds; returns (table lines, ok)."""
     configs = {"plg_t1": (plugin, 1), f"plg_t{a.threads}": (plugin, a.threads),
                "lmp_t1": (None, 1), f"lmp_t{a.threads}": (None, a.threads)}
     results = {k: [] for k in configs}
@@ -109,13 +158,11 @@ def main():
             results[key].append(res)
             print(f"  round {r} {key:7s} loop {res['loop']:8.2f} s  cpu {res['cpu']:8.2f} s  pair {res['pair']:8.2f} s"
                   f"   [{uptime().split('load average:')[-1].strip()}]", flush=True)
-    load_after = uptime()
 
     best = {k: min(v, key=lambda x: x["loop"]) for k, v in results.items()}
     tN = f"t{a.threads}"
     ok = True
-    lines = [f"# threads benchmark, chute {a.model}, {a.steps} steps, best of {a.rounds} rounds",
-             "", f"uptime before: {load_before}", f"uptime after:  {load_after}", "",
+    lines = ["", f"## wall time: {a.steps} steps, best of {a.rounds} interleaved rounds", "",
              "| configuration | loop wall (s) | loop CPU (s) | Pair (s) |", "|---|---|---|---|"]
     for k, b in best.items():
         lines.append(f"| {k} | {b['loop']:.2f} | {b['cpu']:.2f} | {b['pair']:.2f} |")
@@ -140,6 +187,40 @@ def main():
         lines.append(f"SANITY FAILED: the plugin reported {best[f'plg_{tN}']['pair_threads']} pair threads, not {a.threads}")
     if ok:
         lines.append(f"Sanity: plugin thermo identical on 1 and {a.threads} threads in every round; {a.threads} threads reported.")
+    return lines, ok
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--steps", type=int, default=1000)
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--model", choices=["hooke", "hertz"], default="hooke")
+    ap.add_argument("--plugin", default=os.path.join(REPO, "build", "dembridgeplugin.so"))
+    ap.add_argument("--quick", action="store_true", help="200 steps, 1 round: checks that everything runs")
+    ap.add_argument("--callgrind", action="store_true", help="also per-thread instructions per step (load-independent)")
+    ap.add_argument("--cg-steps", type=int, default=10)
+    ap.add_argument("--no-wall", action="store_true", help="skip the wall-time runs (with --callgrind)")
+    a = ap.parse_args()
+    if a.quick:
+        a.steps, a.rounds = 200, 1
+    os.makedirs(OUT, exist_ok=True)
+    plugin = os.path.join(OUT, "dembridgeplugin.so")  # a rebuild during the run does not change what is measured
+    shutil.copy2(a.plugin, plugin)
+    env = dict(os.environ, OMP_NUM_THREADS="1")
+    load_before = uptime()
+    print(f"{datetime.datetime.now():%Y-%m-%d %H:%M}  chute {a.model}, {a.steps} steps, {a.rounds} rounds, "
+          f"1 vs {a.threads} threads\nuptime before: {load_before}", flush=True)
+
+    lines = [f"# threads benchmark, chute {a.model}, 1 vs {a.threads} threads", "", f"uptime before: {load_before}"]
+    ok = True
+    if not a.no_wall:
+        wl, ok = wall_table(a, plugin, env)
+        lines += wl
+    if a.callgrind:
+        cl, bounds = callgrind_table(a, plugin)
+        lines += cl + ["", f"callgrind bound for the plugin {bounds['plg']:.3f} (target {TARGET}), built-in {bounds['lmp']:.3f}"]
+    lines += ["", f"uptime after:  {uptime()}"]
     text = "\n".join(lines) + "\n"
     with open(os.path.join(OUT, "results.md"), "w") as fh:
         fh.write(text)

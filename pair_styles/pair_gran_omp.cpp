@@ -125,8 +125,12 @@ void PairGranOMP::index_list(int nreceive, int nblocks)
   // until the next rebuild; a poor guess only slows, never changes, the result.
   double **x = atom->x;
   const double *radius = atom->radius;
-  row_weight_.resize(std::size_t(std::max(0, list->inum)));
-  for (int ii = 0; ii < list->inum; ii++) {
+  const int inum = list->inum;
+  row_weight_.resize(std::size_t(std::max(0, inum)));
+#if defined(_OPENMP)
+#pragma omp parallel for num_threads(nblocks) schedule(static)
+#endif
+  for (int ii = 0; ii < inum; ii++) {
     const int i = list->ilist[ii];
     const int *jlist = list->firstneigh[i];
     int touching = 0;

@@ -4,26 +4,34 @@
 
 namespace dembridge::rigid {
 
-Mat3 expmap(const Vec3 &theta, bool q3_typo)
+namespace {
+// Taylor coefficients of sin(r)/r and (1 − cos r)/r² in a = r², and the threshold (Parmec's, spec §1.2)
+constexpr double kThreshold = 3.0461741978671E-02;
+constexpr double kSin[7] = {1.0, -1.666666666666667E-1, 8.333333333333333E-3, -1.984126984126984E-4,
+                            2.755731922398589E-6, -2.505210838544172E-8, 1.605904383682161E-10};
+constexpr double kCos[7] = {0.5, -4.166666666666667E-2, 1.388888888888889E-3, -2.480158730158730E-5,
+                            2.755731922398589E-7, -2.087675698786810E-9, 1.147074559772972E-11};
+
+double coefficient(double c, bool single) { return single ? double(float(c)) : c; }
+
+// c0 + (c1 + (c2 + ... + c6 a) a ...) a, Horner from the inside as Parmec writes it
+double series(const double *c, double a, bool single)
+{
+  double s = coefficient(c[6], single) * a;
+  for (int k = 5; k >= 1; k--) s = (coefficient(c[k], single) + s) * a;
+  return coefficient(c[0], single) + s;
+}
+}  // namespace
+
+Mat3 expmap(const Vec3 &theta, bool q3_typo, bool float_taylor)
 {
   const double o1 = theta[0], o2 = theta[1], o3 = theta[2];
   const double v0 = o1 * o1, v1 = o2 * o2, v2 = o3 * o3;
   const double a = v0 + v1 + v2;
   double sx, cx;
-  if (a < 3.0461741978671E-02) {
-    // Taylor series of sin(r)/r and (1 − cos r)/r² in a = r² (Parmec's coefficients, spec §1.2)
-    sx = 1.0 + (-1.666666666666667E-1 +
-                (8.333333333333333E-3 +
-                 (-1.984126984126984E-4 + (2.755731922398589E-6 + (-2.505210838544172E-8 + 1.605904383682161E-10 * a) * a) * a) *
-                     a) *
-                    a) *
-                   a;
-    cx = 0.5 + (-4.166666666666667E-2 +
-                (1.388888888888889E-3 +
-                 (-2.480158730158730E-5 + (2.755731922398589E-7 + (-2.087675698786810E-9 + 1.147074559772972E-11 * a) * a) * a) *
-                     a) *
-                    a) *
-                   a;
+  if (a < coefficient(kThreshold, float_taylor)) {
+    sx = series(kSin, a, float_taylor);
+    cx = series(kCos, a, float_taylor);
   } else {
     const double r = std::sqrt(a);
     sx = std::sin(r) / r;
@@ -46,16 +54,36 @@ Mat3 inertia_from_list(const double *s)
   return J;
 }
 
+Mat3 parmec_inverse(const Mat3 &F)
+{
+  // column-major names of Parmec's INVERT macro: f[0..2] is the first column
+  const double f0 = F(0, 0), f1 = F(1, 0), f2 = F(2, 0), f3 = F(0, 1), f4 = F(1, 1), f5 = F(2, 1), f6 = F(0, 2),
+               f7 = F(1, 2), f8 = F(2, 2);
+  const double det = f0 * (f4 * f8 - f5 * f7) + f3 * (f2 * f7 - f1 * f8) + (f1 * f5 - f2 * f4) * f6;
+  const double d = 1.0 / det;
+  Mat3 I;
+  I(0, 0) = (f4 * f8 - f5 * f7) * d;
+  I(1, 0) = (f2 * f7 - f1 * f8) * d;
+  I(2, 0) = (f1 * f5 - f2 * f4) * d;
+  I(0, 1) = (f5 * f6 - f3 * f8) * d;
+  I(1, 1) = (f0 * f8 - f2 * f6) * d;
+  I(2, 1) = (f2 * f3 - f0 * f5) * d;
+  I(0, 2) = (f3 * f7 - f4 * f6) * d;
+  I(1, 2) = (f1 * f6 - f0 * f7) * d;
+  I(2, 2) = (f0 * f4 - f1 * f3) * d;
+  return I;
+}
+
 RotationStep rotation_step(const Mat3 &J, const Mat3 &Jinv, const Mat3 &L, const Vec3 &W, const Vec3 &torque,
-                           double h, bool q3_typo)
+                           double h, bool q3_typo, bool float_taylor)
 {
   const Vec3 T = L.transpose() * torque;
-  const Vec3 B = expmap(-0.5 * h * W, q3_typo) * (J * W) + 0.5 * h * T;
+  const Vec3 B = expmap(-0.5 * h * W, q3_typo, float_taylor) * (J * W) + 0.5 * h * T;
   const Vec3 A = Jinv * B;
   const Vec3 dO = Jinv * (h * (T - A.cross(J * A)));
   RotationStep out;
   out.W = W + dO;
-  out.L = L * expmap(h * out.W, q3_typo);
+  out.L = L * expmap(h * out.W, q3_typo, float_taylor);
   out.w = out.L * out.W;
   return out;
 }
@@ -65,9 +93,12 @@ int orthonormalise(const double *dirs, int ndirs, Vec3 out[3])
   int n = 0;
   for (int k = 0; k < ndirs && n < 3; k++) {
     Vec3 d(dirs[3 * k], dirs[3 * k + 1], dirs[3 * k + 2]);
-    for (int j = 0; j < n; j++) d -= d.dot(out[j]) * out[j];
-    const double len = d.norm();
-    if (len > 1e-12) out[n++] = d / len;
+    for (int j = 0; j < n; j++) {
+      const double dot = out[j].dot(d);  // Parmec: DOT(dir[j], dir[k]), then dir[k] -= dot dir[j]
+      d -= dot * out[j];
+    }
+    const double len = std::sqrt(d.dot(d));
+    if (len > 1e-12) out[n++] = Vec3(d[0] / len, d[1] / len, d[2] / len);
   }
   return n;
 }
@@ -75,7 +106,10 @@ int orthonormalise(const double *dirs, int ndirs, Vec3 out[3])
 Vec3 remove_components(const Vec3 &v, const Vec3 basis[3], int n)
 {
   Vec3 r = v;
-  for (int k = 0; k < n; k++) r -= v.dot(basis[k]) * basis[k];
+  for (int k = 0; k < n; k++) {
+    const double dot = r.dot(basis[k]);
+    r -= dot * basis[k];
+  }
   return r;
 }
 

@@ -11,10 +11,17 @@ using Mat3 = Eigen::Matrix3d;
 using Vec3 = Eigen::Vector3d;
 
 // exp([θ]×) = I + (sin|θ|/|θ|)[θ]× + ((1 − cos|θ|)/|θ|²)[θ]×², with Parmec's Taylor series for |θ|² < 0.0305.
-Mat3 expmap(const Vec3 &theta, bool q3_typo);
+// float_taylor (quirk Q26): the series' coefficients and threshold rounded to single precision, as in
+// Parmec's ISPC kernels (an unsuffixed ISPC literal is a float): dynamics and the initial half step use
+// them, the C++ joint solver uses the double ones. Relative error 5e-9 on the |θ|² terms.
+Mat3 expmap(const Vec3 &theta, bool q3_typo, bool float_taylor = false);
 
 // Symmetric inertia tensor from Parmec's list [Ixx, Iyy, Izz, Ixy, Ixz, Iyz].
 Mat3 inertia_from_list(const double *six);
+
+// Inverse by cofactors in Parmec's operation order (determinant expanded along the first column, cofactors
+// times 1/det), so that J⁻¹ and everything integrated with it agree bitwise with Parmec's.
+Mat3 parmec_inverse(const Mat3 &J);
 
 struct RotationStep {
   Mat3 L;   // rotation Λ_{n+3/2}
@@ -25,13 +32,14 @@ struct RotationStep {
 // One step of Parmec's dynamics() for the rotation: body torque T = Λᵀ t,
 // Ω½ = J⁻¹[exp(−h/2 Ω) J Ω + h/2 T], Ω' = Ω + h J⁻¹(T − Ω½ × J Ω½), Λ' = Λ exp(h Ω'), ω' = Λ' Ω'.
 RotationStep rotation_step(const Mat3 &J, const Mat3 &Jinv, const Mat3 &L, const Vec3 &W, const Vec3 &torque,
-                           double h, bool q3_typo);
+                           double h, bool q3_typo, bool float_taylor = false);
 
 // Orthonormal basis (Gram-Schmidt, in order, dropping dependent vectors) of up to 3 directions;
-// returns the number kept (RESTRAIN, spec §10).
+// returns the number kept (RESTRAIN, spec §10). Operation order as Parmec's RESTRAIN.
 int orthonormalise(const double *dirs, int ndirs, Vec3 out[3]);
 
-// v minus its components along the first n basis vectors.
+// v minus its components along the first n basis vectors, one after the other (each dot product taken
+// with the already reduced vector, as Parmec's restrain kernels do).
 Vec3 remove_components(const Vec3 &v, const Vec3 basis[3], int n);
 
 }  // namespace dembridge::rigid

@@ -1,7 +1,9 @@
 // Parmec's BALL_JOINT (spec parmec-springs §9), LAMMPS-free: joints split into clusters (connected
-// components of the joint graph); per cluster the velocity constraints U_rel(t_n) + U_rel(t_{n+1}) = 0 are
-// solved for the joint impulses with a sparse LU (Eigen). Bodies with zero inverse mass and inertia are
-// kinematic (prescribed motion).
+// components of the joint graph, joints in Parmec's depth-first order); per cluster the velocity constraints
+// U_rel(t_n) + U_rel(t_{n+1}) = 0 are assembled and solved for the joint impulses in Parmec's operation order
+// (blocks as joints.cpp forms them, a skyline Crout LU as amgcl's skyline_lu factors them), so joint
+// reactions agree with Parmec's to round-off. Bodies with zero inverse mass and inertia are kinematic
+// (prescribed motion).
 #pragma once
 
 #include <memory>
@@ -11,8 +13,6 @@
 
 #include "BodyRotation.h"
 
-#include <Eigen/SparseCore>
-#include <Eigen/SparseLU>
 
 namespace dembridge::rigid {
 
@@ -27,7 +27,8 @@ struct BodyKinematics {
   Mat3 inv_inertia = Mat3::Zero();         // referential J⁻¹ (0 for a kinematic body)
   Mat3 L = Mat3::Identity();               // Λ_{n+1/2}
   Vec3 v = Vec3::Zero(), W = Vec3::Zero();            // v_n, Ω_n
-  Vec3 v_free = Vec3::Zero(), W_free = Vec3::Zero();  // end-of-step velocities without joint reactions
+  Vec3 v_free = Vec3::Zero(), W_free = Vec3::Zero();  // end-of-step velocities without joint reactions,
+  Vec3 kick = Vec3::Zero();  // ... v_free + kick: Parmec adds the force kick (h/m) f after the point velocity
 };
 
 class SingularCluster : public std::runtime_error {
@@ -56,7 +57,6 @@ class JointClusters {
   std::vector<JointDef> joints_;
   std::vector<std::vector<int>> clusters_;
   mutable std::vector<char> checked_;  // cluster rank verified (first solve)
-  mutable std::vector<std::unique_ptr<Eigen::SparseLU<Eigen::SparseMatrix<double>>>> lu_;  // per cluster
 };
 
 }  // namespace dembridge::rigid

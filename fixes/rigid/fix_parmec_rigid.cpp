@@ -68,6 +68,20 @@ void store_quat(const Mat3 &L, double *q)
 
 Vec3 vec(const double *a) { return Vec3(a[0], a[1], a[2]); }
 
+// Global damping (spec §10) in Parmec's operation order: f − (m d_v) v and t − Λ(J(Λᵀ(d_ω ω))).
+Vec3 damped_force(const Vec3 &F, double m, const double *d, const Vec3 &v)
+{
+  return Vec3(F[0] - m * d[0] * v[0], F[1] - m * d[1] * v[1], F[2] - m * d[2] * v[2]);
+}
+
+Vec3 damped_torque(const Vec3 &T, const Mat3 &L, const Mat3 &J, const double *d, const Vec3 &w)
+{
+  const Vec3 o(d[0] * w[0], d[1] * w[1], d[2] * w[2]);
+  const Vec3 body = L.transpose() * o;
+  const Vec3 Jb = J * body;
+  return T - L * Jb;
+}
+
 void put(const Vec3 &v, double *a)
 {
   a[0] = v[0];
@@ -301,6 +315,13 @@ void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::strin
         error->all(FLERR, at + "start: expected 'parmec' (initial half drift) or 'none', got '" + tok[i + 1] + "'");
       half_drift_ = tok[i + 1] == "parmec";
       i += 2;
+    } else if (kw == "taylor") {
+      need(1, "'parmec' or 'exact'");
+      if (tok[i + 1] != "parmec" && tok[i + 1] != "exact")
+        error->all(FLERR, at + "taylor: expected 'parmec' (single-precision series coefficients, Q26) or 'exact', got '" +
+                              tok[i + 1] + "'");
+      q26_ = tok[i + 1] == "parmec";
+      i += 2;
     } else if (kw == "q1" || kw == "q2" || kw == "q3" || kw == "q20" || kw == "qj" || kw == "q16") {
       need(1, "'yes' or 'no'");
       const bool on = yesno(kw, tok[i + 1]);
@@ -310,7 +331,7 @@ void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::strin
       need(1, "'parmec' or 'none'");
       if (tok[i + 1] != "parmec" && tok[i + 1] != "none")
         error->all(FLERR, at + "quirks: expected 'parmec' or 'none', got '" + tok[i + 1] + "'");
-      q1_ = q2_ = q3_ = q20_ = qj_ = q16_ = tok[i + 1] == "parmec";
+      q1_ = q2_ = q3_ = q20_ = qj_ = q16_ = q26_ = tok[i + 1] == "parmec";
       i += 2;
     } else if (kw == "file") {
       need(1, "a file name");
@@ -320,7 +341,7 @@ void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::strin
     } else {
       error->all(FLERR, at + "unknown keyword '" + kw +
                             "' (expected tseries, gravity, damping, restrain, prescribe, joint, joint_output, inertia, "
-                            "start, quirks, q1, q2, q3, q16, q20, qj or file)");
+                            "start, taylor, quirks, q1, q2, q3, q16, q20, qj or file)");
     }
   }
 }
@@ -458,8 +479,8 @@ void FixParmecRigid::apply_joints(std::vector<Vec3> &F0, std::vector<Vec3> &T0, 
     const Vec3 v = vec(atom->v[i]), w = vec(atom->omega[i]);
     const double m = atom->rmass[i];
     // free end-of-step motion includes global damping (spec §9)
-    const Vec3 F = F0[i] - m * Vec3(dl[0] * v[0], dl[1] * v[1], dl[2] * v[2]);
-    const Vec3 T = T0[i] - L * J * L.transpose() * Vec3(da[0] * w[0], da[1] * w[1], da[2] * w[2]);
+    const Vec3 F = damped_force(F0[i], m, dl, v);
+    const Vec3 T = damped_torque(T0[i], L, J, da, w);
     mine.push_back(it->second);
     mine.push_back(m);
     const double six[6] = {J(0, 0), J(1, 1), J(2, 2), J(0, 1), J(0, 2), J(1, 2)};
@@ -495,9 +516,10 @@ void FixParmecRigid::apply_joints(std::vector<Vec3> &F0, std::vector<Vec3> &T0, 
       continue;
     }
     B.inv_mass = 1.0 / r[1];
-    B.inv_inertia = J.inverse();
-    B.v_free = B.v + (h / r[1]) * Vec3(r[23], r[24], r[25]);
-    B.W_free = rigid::rotation_step(J, B.inv_inertia, B.L, B.W, Vec3(r[26], r[27], r[28]), h, q3_).W;
+    B.inv_inertia = rigid::parmec_inverse(J);
+    B.v_free = B.v;
+    B.kick = (h * B.inv_mass) * Vec3(r[23], r[24], r[25]);
+    B.W_free = rigid::rotation_step(J, B.inv_inertia, B.L, B.W, Vec3(r[26], r[27], r[28]), h, q3_).W;  // joints.cpp (C++): double coefficients
   }
   for (std::size_t b = 0; b < seen.size(); b++)
     if (!seen[b])
@@ -631,7 +653,7 @@ void FixParmecRigid::half_drift()
     if (!(atom->mask[i] & groupbit)) continue;
     for (int c = 0; c < 3; c++) atom->x[i][c] += hh * atom->v[i][c];
     const Vec3 W = vec(W_[i]);
-    const Mat3 L = load(L_[i]) * rigid::expmap(hh * W, q3_);
+    const Mat3 L = load(L_[i]) * rigid::expmap(hh * W, q3_, q26_);
     store(L, L_[i]);
     store_quat(L, atom->quat[i]);
     put(L * (q1_ ? Vec3(hh * W) : W), atom->omega[i]);
@@ -667,7 +689,7 @@ void FixParmecRigid::final_integrate()
     if (!(mask[i] & groupbit)) continue;
     const double m = rmass[i];
     const Mat3 J = inertia(i);
-    const Mat3 Jinv = J.inverse();
+    const Mat3 Jinv = rigid::parmec_inverse(J);
     const Mat3 L = load(L_[i]);
     Vec3 F = F0[i];
     Vec3 T = T0[i];
@@ -695,14 +717,14 @@ void FixParmecRigid::final_integrate()
       }
     }
     if (has_damping_) {
-      F -= m * Vec3(dl[0] * vn[0], dl[1] * vn[1], dl[2] * vn[2]);
-      T -= L * J * L.transpose() * Vec3(da[0] * wn[0], da[1] * wn[1], da[2] * wn[2]);
+      F = damped_force(F, m, dl, vn);
+      T = damped_torque(T, L, J, da, wn);
     }
     put(F, f[i]);
     put(T, torque[i]);
 
-    const Vec3 v1 = vn + (h / m) * F;
-    const rigid::RotationStep rot = rigid::rotation_step(J, Jinv, L, vec(W_[i]), T, h, q3_);
+    const Vec3 v1 = vn + ((1.0 / m) * h) * F;  // Parmec: 1/m stored, times h, times f
+    const rigid::RotationStep rot = rigid::rotation_step(J, Jinv, L, vec(W_[i]), T, h, q3_, q26_);
     for (int c = 0; c < 3; c++) x[i][c] += h * v1[c];
     put(v1, v[i]);
     Vec3 W = rot.W, w = rot.w;

@@ -96,6 +96,7 @@ class FixParmecRigid : public LAMMPS_NS::Fix {
   std::unique_ptr<rigid::JointClusters> clusters_;
   std::vector<rigid::Vec3> reactions_;
   bool q16_ = false;
+  bool q26_ = false;  // 'taylor parmec': the ISPC kernels' single-precision series coefficients
   std::string joint_file_;
   FILE *joint_fp_ = nullptr;
   std::string id_state_;

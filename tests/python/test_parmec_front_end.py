@@ -3,6 +3,7 @@ acceptance A) and bad input (acceptance C). Scripts: tests/data/parmec/scripts/ 
 the oracle cases); references: tests/data/parmec/<case>/ (README there). Row n of a HISTORY list is
 compared with the oracle row of the same TIME label (the labels themselves must be equal)."""
 import csv
+import json
 import math
 import gzip
 import os
@@ -59,27 +60,21 @@ def run(name, argv=(), quirks=False, tmp_path=None):
 
 
 def test_analytical_exact(tmp_path):
-    """1000 rotation increments: the material point agrees to 4.7e-12 (round-off of the 3x3 products
-    accumulated per step; the angular velocity and centre exactly)."""
+    """1000 rotation increments: the material point agrees to 8.9e-16 (4.7e-12 before Parmec's single-
+    precision series coefficients, Q26, were reproduced: 5e-9 relative on the θ² term, every step)."""
     err = compare(run("analytical.py", tmp_path=tmp_path), oracle("analytical"))
-    assert max(err.values()) <= 1e-11, err
+    assert max(err.values()) <= 1e-14, err
 
 
-@pytest.mark.parametrize("variant,quirks", [("", True), ("fixedQ1Q3", False)])
+@pytest.mark.parametrize("variant,quirks", [("", True), ("fixedQ1Q3", "fixedQ1Q3")])
 def test_restrain_exact(tmp_path, variant, quirks):
-    """Upstream Parmec (Q1, Q3, Q20 switched on) and the Q1/Q3-fixed build (defaults, Q20 fixed:
-    restraining before the half drift) -- the fixed build keeps Q20, so positions of restrained
-    directions differ by h/2 v0 there; velocities and angular velocities agree exactly."""
+    """Upstream Parmec (every quirk) and the Q1/Q3-fixed build (every quirk but Q1, Q3): spinning cubes,
+    50 steps of h = 0.1, every column to 1.5e-15 (2.1e-11 before the mesh inertia was integrated in
+    Parmec's order and Q26 reproduced: the restraint left Parmec's slightly non-orthogonal Λ's residual)."""
     H = run("restrain.py", quirks=quirks, tmp_path=tmp_path)
     rows = oracle(os.path.join(variant, "restrain") if variant else "restrain")
     err = compare(H, rows)
-    # spinning cubes, 50 steps of h = 0.1: round-off of the rotation products grows to 2e-11 on the
-    # angular velocities of the angularly restrained cubes (translations agree to 1e-16)
-    if quirks:
-        assert max(err.values()) <= 1e-10, {k: v for k, v in err.items() if v > 1e-10}
-    else:
-        vel = {k: v for k, v in err.items() if k[3] in "VO"}
-        assert max(vel.values()) <= 1e-10, {k: v for k, v in vel.items() if v > 1e-10}
+    assert max(err.values()) <= 1e-14, {k: v for k, v in err.items() if v > 1e-14}
 
 
 def test_restrain_corrected_start_does_not_drift(tmp_path):
@@ -155,23 +150,28 @@ def test_spring_hung_cube_exact(tmp_path):
     assert abs(ns["critical"] - 0.00041585602806453945) <= 2e-11 * 0.000415856
 
 
-@pytest.mark.parametrize("variant,quirks", [("", True), ("fixedQ1Q3", False)])
+@pytest.mark.parametrize("variant,quirks", [("", True), ("fixedQ1Q3", "fixedQ1Q3")])
 def test_ball_joint_chain_exact(tmp_path, variant, quirks):
     """Ten cubes chained by BALL_JOINTs, the last pinned, under gravity: 2 s (2000 steps), positions,
-    angular velocities, joint reactions and the joint points on both bodies, against upstream Parmec
-    (quirks on) and the Q1/Q3-fixed build (defaults)."""
+    angular velocities, joint reactions and the joint points on both bodies, against upstream Parmec and
+    the Q1/Q3-fixed build. Measured: positions and joint points to 1.7e-15, angular velocities to 1.1e-13,
+    reactions to 6.2e-12 of their largest value (1e-10 overall before the joint system was assembled and
+    factored in Parmec's order): the impulses solve an ill-conditioned system whose right-hand side is a
+    difference of nearly equal velocities, so an ulp there is ~1e-13 relative in a reaction."""
     ns = run_script(os.path.join(SCRIPTS, "ball_joint_chain.py"), ["2.0"], quirks=quirks, workdir=str(tmp_path))
     rows = oracle(os.path.join(variant, "ball_joint_chain") if variant else "ball_joint_chain")
     err = compare(ns["H"], rows, rows_used=len(ns["H"]["TIME"]))
     assert len(ns["H"]["TIME"]) == 200
-    assert max(err.values()) <= 1e-10, sorted(err.items(), key=lambda kv: -kv[1])[:5]
+    state = {k: v for k, v in err.items() if "JREAC" not in k}
+    assert max(state.values()) <= 2e-13, sorted(state.items(), key=lambda kv: -kv[1])[:5]
+    assert max(err.values()) <= 1e-11, sorted(err.items(), key=lambda kv: -kv[1])[:5]
 
 
 # (oracle case, script, extra ARGV, --parmec-quirks, duration, tolerance): each script runs at the oracle's
 # step for `duration` and every column of the oracle is compared (rows up to the last sample)
 SPRING_CASES = [
-    ("spring_planar", "spring_planar.py", [], True, 5.0, 5e-8),
-    ("spring_planar", "spring_planar.py", [], False, 5.0, 5e-8),
+    ("spring_planar", "spring_planar.py", [], True, 5.0, 5e-11),
+    ("spring_planar", "spring_planar.py", [], False, 5.0, 5e-11),
     ("spring_damping_factor", "spring_damping_factor.py", [], True, 0.5, 1e-10),
     ("spring_stroke_offset", "spring_stroke_offset.py", [], False, 0.2, 2e-10),
     ("spring_contact_points", "spring_contact.py", ["points"], True, 0.1, 1e-11),
@@ -186,8 +186,8 @@ SPRING_CASES = [
 @pytest.mark.parametrize("case,script,extra,quirks,duration,tol", SPRING_CASES,
                          ids=[f"{c[0]}-{'parmec' if c[3] else 'fixed'}" for c in SPRING_CASES])
 def test_spring_oracle_cases(tmp_path, case, script, extra, quirks, duration, tol):
-    """Measured (max over columns, group-scaled): planar 1.6e-8 (both modes; forces of the zero-length planar
-    spring), damping factor with Q8 (quirks) 9.3e-12, stroke offset 1.1e-10 (torques), contact 1.7e-12,
+    """Measured (max over columns, group-scaled): planar 3.3e-11 (both modes; forces of the zero-length planar
+    spring; 1.6e-8 before the mesh inertia followed Parmec's order), damping factor with Q8 (quirks) 9.3e-12, stroke offset 1.1e-10 (torques), contact 1.7e-12,
     contact on planes vs the Q1/Q3-fixed build 2.9e-14; vs upstream 2.9e-7: with Q3 on, Parmec's rotation
     matrix is slightly non-orthogonal and the spring fix places the points with the atom quaternion (its
     orthonormal part)."""
@@ -259,12 +259,15 @@ def test_prescribed_yield_cycle_exact(tmp_path, case, body):
 
 
 @pytest.mark.parametrize("case,mode,quirks,duration,tol", [
-    ("spring_chain", "tables", False, 0.5, 2e-9), ("spring_chain", "tables", True, 0.5, 2e-9),
+    ("spring_chain", "tables", False, 0.5, 1e-9), ("spring_chain", "tables", True, 0.5, 1e-9),
     ("spring_chain_critical", "ratios", True, 5.0, 1e-10)])
 def test_spring_chain_exact(tmp_path, case, mode, quirks, duration, tol):
     """Ten cubes chained by follower springs (tables, 4800 steps; critical ratios with Parmec's Q8 EQM arm,
-    1800 steps): measured 1.2e-9 (angular velocity of the top cube: round-off growing along the chain) and
-    5.2e-11."""
+    1800 steps): measured 8e-10 (angular velocity of the top cube) and 4.9e-11: the spring kernel forms the
+    attachment points from the atom quaternion (not Parmec's stored Λ), the follower direction as w/|w|
+    (Parmec: (1/|w|) w), the arm as Λ(P - X) (Parmec: p - x) and sums a body's spring forces after gravity
+    (Parmec: gravity first, then per-body runs of the (part1, part2)-sorted springs): ulps per step that the
+    chain amplifies (doc/parmec_front_end.md)."""
     import json
     meta = json.load(open(os.path.join(DATA, case, "meta.json")))
     ns = run_script(os.path.join(SCRIPTS, "spring_chain.py"), [repr(meta["step"]), repr(duration), mode],
@@ -452,7 +455,7 @@ BAD = [
     ("HISTORY('JREAC_X', 0)", "HISTORY: argument 'source': 0 is not a joint number"),
     ("HISTORY('PX', [p, q], point=(0, 0, 0))", "HISTORY: argument 'point'"),
     ("HISTORY('PX', (0, 0, 0, 1))", "HISTORY: argument 'source'"),
-    ("OUTPUT(format='VTK')", "OUTPUT: argument 'format'"),
+    ("OUTPUT(format='XDMF')", "OUTPUT: argument 'format'"),
     ("OUTPUT(mode='XYZ', format='DUMP')", "OUTPUT: argument 'mode'"),
     ("CRITICAL(perspring=3)", "CRITICAL: argument 'perspring'"),
     ("DEM(1.0, -0.1)", "DEM: argument 'step'"),
@@ -524,3 +527,37 @@ def test_column_example_runs_and_holds_its_weight(tmp_path, monkeypatch):
     assert max(abs(z) for z in ns["zt"]) < 1e-9 and max(abs(x) for x in ns["xt"]) < 1e-9
     ns = run_script(script, ["0.5"], workdir=str(tmp_path))
     assert max(abs(a - b) for a, b in zip(ns["xt"], ns["xb"])) > 0.05
+
+
+# ----------------------------------------------------------------------------------- O(h) agreement
+# Where the front end runs with an integrator option other than Parmec's (the corrected defaults: Q1 first
+# force with the true spin, Q2 prescribed velocity without lag, Q3 exact exponential map, Q20 restraint
+# before the half drift, ...), it agrees with Parmec to first order: the difference between the corrected
+# run and the Parmec-mode run (which reproduces Parmec's recurrence exactly, tests above) halves with h.
+def _scaled_difference(Ha, Hb):
+    rows = [{k: Hb[k][n] for k in Hb} for n in range(len(Hb["TIME"]))]
+    return max(compare(Ha, rows).values())
+
+
+OH_CASES = [
+    # (name, script, ARGV for a step h, oracle step)
+    ("restrain", "restrain.py", lambda h: [repr(h)], 0.1),
+    ("prescribe", "prescribe.py", lambda h: [repr(h)], 0.01),
+    ("spring_contact_plane", "spring_contact.py", lambda h: [repr(h), "0.02", "plane"], 4.145188432738002e-05),
+    ("torsion_z_spin", "torsion_one.py",
+     lambda h: [json.dumps({"body": "cube", "args": {"zdir": [1, 0, 0], "xdir": [0, 0, 1], "kroll": [-1, 1e4, 1, -1e4]},
+                            "w0": [0, 0, 1], "duration": 0.2}), repr(h)], 1e-3),
+]
+
+
+@pytest.mark.parametrize("name,script,argv,h", OH_CASES, ids=[c[0] for c in OH_CASES])
+def test_corrected_defaults_agree_with_parmec_to_first_order(tmp_path, name, script, argv, h):
+    """Difference corrected - Parmec (group-scaled max over every HISTORY column) at h and h/2: ratio 2."""
+    e = []
+    for step in (h, h / 2):
+        runs = [run_script(os.path.join(SCRIPTS, script), argv(step), quirks=q, workdir=str(tmp_path))["H"]
+                for q in (False, True)]
+        e.append(_scaled_difference(runs[0], runs[1]))
+    print(f"[agreement] {name}: corrected - Parmec at h = {h:.6g}: {e[0]:.3g}; h/2: {e[1]:.3g}; ratio {e[0] / e[1]:.3f}")
+    assert e[0] > 1e-9, "the options should differ visibly here"
+    assert 1.6 < e[0] / e[1] < 2.5, e

@@ -10,7 +10,10 @@ __all__ = ["ParmecError", "Model", "run_script"]
 
 
 def run_script(path, argv=(), quirks=False, workdir=None):
-    """Execute the Parmec script at `path` with the Parmec commands defined; returns the script's globals."""
+    """Execute the Parmec script at `path` with the Parmec commands defined; returns the script's globals.
+    quirks: False (corrected), True (upstream Parmec) or "fixedQ1Q3" (every quirk but Q1 and Q3)."""
+    if quirks not in (False, True, "fixedQ1Q3"):
+        raise ParmecError(f"run_script: quirks must be False, True or 'fixedQ1Q3', got {quirks!r}")
     model = Model(argv=argv, script=path, quirks=quirks, workdir=workdir)
     ns = model.namespace()
     code = compile(open(path).read(), path, "exec")

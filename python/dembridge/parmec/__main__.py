@@ -1,4 +1,7 @@
-"""python -m dembridge.parmec [--parmec-quirks] [--workdir DIR] model.py [script arguments]"""
+"""python -m dembridge.parmec [--parmec-quirks[=fixedQ1Q3]] [--workdir DIR] model.py [script arguments]
+
+--parmec-quirks: upstream Parmec's behaviour (every quirk, doc/parmec_front_end.md); =fixedQ1Q3: all but Q1 and Q3
+(the second Parmec build of the oracle)."""
 import sys
 
 from . import ParmecError, run_script
@@ -10,10 +13,12 @@ def main(argv):
         opt = argv.pop(0)
         if opt == "--parmec-quirks":
             quirks = True
+        elif opt == "--parmec-quirks=fixedQ1Q3":
+            quirks = "fixedQ1Q3"
         elif opt == "--workdir" and argv:
             workdir = argv.pop(0)
         else:
-            print(f"dembridge.parmec: unknown option {opt!r} (expected --parmec-quirks, --workdir DIR)", file=sys.stderr)
+            print(f"dembridge.parmec: unknown option {opt!r} (expected --parmec-quirks, --parmec-quirks=fixedQ1Q3, --workdir DIR)", file=sys.stderr)
             return 2
     if not argv:
         print("usage: python -m dembridge.parmec [--parmec-quirks] [--workdir DIR] model.py [args]", file=sys.stderr)

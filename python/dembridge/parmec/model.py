@@ -8,6 +8,7 @@ import sys
 
 from .errors import ParmecError, fail
 from . import geometry as geo
+from . import vtk_output
 
 REAL_MAX = sys.float_info.max
 
@@ -227,6 +228,7 @@ class Model:
         r = math.sqrt((J[0][0] + J[1][1] + J[2][2]) / 3.0 / (0.4 * mass))
         p = Particle("MESH", mass, centre, J, r, m, colors[0])
         p.nodes = [float(x) for x in nodes]
+        p.triangles = vtk_output.boundary_triangles(elements)
         self.particles.append(p)
         return len(self.particles) - 1
 
@@ -617,21 +619,23 @@ class Model:
 
     def OUTPUT(self, entities=None, subset=None, mode=None, format=None):
         cmd = "OUTPUT"
-        fmts = format if isinstance(format, (list, tuple)) else [format or "XDMF"]
+        # Parmec's default is XDMF (+HDF5); here VTK, which ParaView opens the same way
+        fmts = format if isinstance(format, (list, tuple)) else [format or "VTK"]
         for f in fmts:
             if f not in ("DUMP", "VTK", "XDMF", "MED"):
                 fail(cmd, f"argument 'format': unknown format {f!r}")
-            if f != "DUMP":
-                fail(cmd, f"argument 'format' = {f!r} is not supported (only 'DUMP', LAMMPS dump files that ParaView "
-                          "opens with its LAMMPS reader)")
+            if f not in ("DUMP", "VTK"):
+                fail(cmd, f"argument 'format' = {f!r} is not supported (only 'VTK': VTK XML files with a .pvd time "
+                          "series, and 'DUMP': LAMMPS dump files, both open in ParaView)")
         if subset is not None:
             sub = subset if isinstance(subset, (list, tuple)) else [subset]
             for i in sub:
                 self._particle(cmd, "subset", i)
         else:
             sub = None
+        modes = None
         if mode is not None:
-            modes = mode if isinstance(mode, (list, tuple)) else [mode]
+            modes = list(mode) if isinstance(mode, (list, tuple)) else [mode]
             for m in modes:
                 if m not in ("SPH", "MESH", "RB", "CD", "SL", "ST", "JT"):
                     fail(cmd, f"argument 'mode': unknown mode {m!r}")
@@ -643,7 +647,7 @@ class Model:
                 if e not in known:
                     fail(cmd, f"argument 'entities': unknown entity {e!r}")
         self._modifiable(cmd)
-        self.outputs.append({"subset": sub})
+        self.outputs.append({"subset": sub, "formats": list(fmts), "entities": entities, "modes": modes})
 
     def DEM(self, duration, step, interval=None, prefix=None, adaptive=0.0):
         cmd = "DEM"

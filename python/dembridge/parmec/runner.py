@@ -11,6 +11,7 @@ import time
 from .errors import ParmecError, fail
 from .history import JOINT, SPRING, TORSION, particle_value
 from . import geometry as geo
+from . import vtk_output
 
 
 def _r(x):
@@ -135,7 +136,9 @@ class Runner:
         if critical_only:
             return
         self.cmd(f"timestep {_r(self.h)}")
-        self.cmd(f"fix R all parmec/rigid inertia pmJ "
+        # 'taylor parmec': Parmec's integrator arithmetic in both modes (its ISPC kernels round the rotation
+        # series' coefficients to single precision; the Q1/Q3-fixed build does too)
+        self.cmd(f"fix R all parmec/rigid inertia pmJ taylor parmec "
                  f"file {self.write('rigid.def', self._rigid())}")
 
     def _springs(self):
@@ -309,6 +312,8 @@ class Runner:
             out.append(f"joint_output {self.path('joints.csv')}")
         if m.quirks:
             out.append("quirks parmec")
+        if m.quirks == "fixedQ1Q3":  # the oracle's second Parmec build: Q1 and Q3 fixed, the rest as upstream
+            out += ["q1 no", "q3 no"]
         return "\n".join(out) + "\n"
 
     # ---------------------------------------------------------------------------------------------
@@ -342,15 +347,18 @@ class Runner:
             nsteps += 1
             t += h
         samples, frames = [], []  # (LAMMPS step, TIME label) of history samples and output files
+        self._frame_time = {}
         tn = m.curtime
         if m.step_count == 0 and m.outputs:
             frames.append(self.lammps_step)  # Parmec writes the initial state too
+            self._frame_time[self.lammps_step] = tn
         for k in range(nsteps):
             if tn >= m.hist_time + hist:
                 samples.append((self.lammps_step + k + 1, tn))
                 m.hist_time += hist
             if tn >= m.out_time + files:
                 frames.append(self.lammps_step + k + 1)
+                self._frame_time[self.lammps_step + k + 1] = tn
                 m.out_time += files
             tn += h
         if m.step_count == 0:
@@ -413,9 +421,10 @@ class Runner:
         return elapsed
 
     def _write_outputs(self, frames, snaps, prefix):
-        """OUTPUT(format='DUMP'): LAMMPS text dumps PREFIX0.dump (all particles) and PREFIXk.dump (k-th OUTPUT
-        call with a subset), appended over DEM calls, at Parmec's output-file times; ParaView opens them
-        with its LAMMPS dump reader. Written by rank 0 from the front end's particle dump."""
+        """OUTPUT files at Parmec's output-file times, written by rank 0 from the front end's particle dump:
+        format 'VTK' (default): VTK XML files with .pvd time series (vtk_output.py); 'DUMP': LAMMPS text dumps
+        PREFIX0.dump (all particles) and PREFIXk.dump (k-th OUTPUT call with a subset), appended over DEM
+        calls, which ParaView opens with its LAMMPS dump reader."""
         m = self.model
         if prefix is not None:
             m.prefix = prefix
@@ -429,6 +438,13 @@ class Runner:
             else:
                 k += 1
                 idx, ids = k, list(o["subset"])
+            if "VTK" in o.get("formats", ["DUMP"]):
+                series = [(self._frame_time[step], self._states(snaps.get(step, {}))) for step in frames]
+                o.setdefault("pvd", {})
+                vtk_output.write_series(base, idx, m.particles, ids, series, o.get("entities"), o.get("modes"),
+                                        o["pvd"])
+            if "DUMP" not in o.get("formats", ["DUMP"]):
+                continue
             with open(f"{base}{idx}.dump", "a" if o.get("started") else "w") as f:
                 for step in frames:
                     snap = snaps.get(step, {})
@@ -441,6 +457,18 @@ class Runner:
                         vals = r[:15] if r else p.centre + p.v + p.w + [0.0] * 6
                         f.write(f"{i + 1} {p.color} {p.radius!r} {p.mass!r} " + " ".join(repr(v) for v in vals) + "\n")
             o["started"] = True
+
+    def _states(self, snap):
+        """{particle: {x, v, w, f, t, L}} from a particle dump snapshot; the initial state where absent."""
+        out = {}
+        for i, p in enumerate(self.model.particles):
+            row = snap.get(i + 1)
+            if row is None:
+                out[i] = {"x": p.centre, "v": p.v, "w": p.w, "f": [0.0] * 3, "t": [0.0] * 3, "L": p.rotation}
+            else:
+                out[i] = {"x": row[0:3], "v": row[3:6], "w": row[6:9], "f": row[9:12], "t": row[12:15],
+                          "L": [row[15:18], row[18:21], row[21:24]]}
+        return out
 
     def _bounds(self, snap):
         P = self.model.particles

@@ -97,3 +97,37 @@ TEST(BodyRotation, GramSchmidtAndProjection)
   EXPECT_LT((remove_components(Vec3(1, 2, 3), b, 2) - Vec3(0, 0, 3)).norm(), 1e-16);
   EXPECT_EQ(remove_components(Vec3(1, 2, 3), b, 0), Vec3(1, 2, 3));
 }
+
+TEST(BodyRotation, SinglePrecisionSeriesQ26)
+{
+  // Parmec's ISPC kernels use float-rounded Taylor coefficients: about z, sin(θ)/θ is off by
+  // (float(1/6) − 1/6)·θ² to leading order, so L(1,0) = sin θ − (float(1/6) − 1/6) θ³ + O(θ⁵·1e-9)
+  const double th = 0.01, d6 = double(float(1.666666666666667E-1)) - 1.666666666666667E-1;
+  const Mat3 E = expmap(Vec3(0, 0, th), false, true), X = expmap(Vec3(0, 0, th), false, false);
+  EXPECT_NEAR(X(1, 0), std::sin(th), 1e-18);
+  EXPECT_NEAR((E(1, 0) - X(1, 0)) / (-d6 * th * th * th), 1.0, 1e-3);
+  // large angles use sin/cos in both (the series' threshold is |θ|² < 0.0305)
+  EXPECT_EQ((expmap(Vec3(0.3, 0.1, 0), false, true) - expmap(Vec3(0.3, 0.1, 0), false, false)).norm(), 0.0);
+}
+
+TEST(BodyRotation, ParmecInverseIsTheInverse)
+{
+  const double s[6] = {3.0, 2.5, 4.0, 0.3, -0.2, 0.1};
+  const Mat3 J = inertia_from_list(s), I = parmec_inverse(J);
+  EXPECT_LT((J * I - Mat3::Identity()).norm(), 4e-16);
+  // diagonal: (J11 J22) / (J00 J11 J22) as Parmec forms it, not 1/J00
+  const double d[6] = {3.0, 7.0, 11.0, 0, 0, 0};
+  const Mat3 D = parmec_inverse(inertia_from_list(d));
+  EXPECT_EQ(D(0, 0), (7.0 * 11.0 - 0.0 * 0.0) * (1.0 / (3.0 * (7.0 * 11.0 - 0.0) + 0.0 * (0.0 - 0.0) + (0.0 - 0.0) * 0.0)));
+  EXPECT_EQ(D(0, 1), 0.0);
+}
+
+TEST(BodyRotation, RestraintProjectionsAreSequential)
+{
+  // each component removed from the already reduced vector (Parmec's restrain kernels): with a non-
+  // orthogonal pair the result differs from removing both components of the original vector
+  const Vec3 b[3] = {Vec3(1, 0, 0), Vec3(std::sqrt(0.5), std::sqrt(0.5), 0), Vec3::Zero()};
+  const Vec3 v(1, 2, 3), r = remove_components(v, b, 2);
+  const Vec3 step1 = v - v.dot(b[0]) * b[0];
+  EXPECT_EQ(r, step1 - step1.dot(b[1]) * b[1]);
+}

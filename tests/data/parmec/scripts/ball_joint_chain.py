@@ -1,6 +1,6 @@
 # Parmec-language script of the oracle case 'ball_joint_chain' (Parmec tests/ball_joint_chain.py with ten
 # cubes): cube i spans [i, i+1]^3, consecutive cubes joined by BALL_JOINTs at (i, i, i), the last cube pinned
-# at (10, 10, 10); gravity -10 z. ARGV()[0] = duration (default 10 s).
+# at (10, 10, 10); gravity -10 z. ARGV()[0] = duration (default 10 s), ARGV()[1] = step (default 0.001).
 matnum = MATERIAL (1E3, 1E9, 0.25)
 H = {'TIME': HISTORY ('TIME')}
 prevpar = -1
@@ -27,5 +27,5 @@ for j, pt, a, b in points:
     H['jpt%d_on_p%d_%s' % (j, b, e)] = HISTORY (e, b, point = pt)
 GRAVITY (0., 0., -10.)
 duration = float (ARGV()[0]) if ARGV() else 10.0
-h = 0.001
+h = float (ARGV()[1]) if len (ARGV()) > 1 else 0.001
 DEM (duration, h, (0.05, 0.01))

@@ -1,5 +1,5 @@
 # Parmec-language script of the oracle case 'prescribe' (Parmec tests/prescribe.py): unit cube with
-# prescribed linear and angular velocity callbacks.
+# prescribed linear and angular velocity callbacks. ARGV: [step] (default 0.01, the oracle's).
 matnum = MATERIAL (1E3, 1E9, 0.25)
 nodes = [0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1]
 elements = [8, 0, 1, 2, 3, 4, 5, 6, 7, matnum]
@@ -11,4 +11,5 @@ PRESCRIBE (parnum, linvel, angvel)
 H = {'TIME': HISTORY ('TIME')}
 for e in ('PX', 'DX', 'VX', 'OZ'):
   H[e] = HISTORY (e, parnum)
-DEM (2.0, 0.01, (0.1, 0.01))
+step = float (ARGV()[0]) if ARGV() else 0.01
+DEM (2.0, step, (0.1, step))

@@ -1,5 +1,5 @@
 # Parmec-language script of the oracle case 'restrain' (Parmec tests/restrain.py): 7 unit cubes,
-# v0 = omega0 = (1, 1, 1), different RESTRAINs, no gravity.
+# v0 = omega0 = (1, 1, 1), different RESTRAINs, no gravity. ARGV: [step] (default 0.1, the oracle's).
 matnum = MATERIAL (1E3, 1E9, 0.25)
 H = {'TIME': HISTORY ('TIME')}
 for i in range (0, 7):
@@ -16,4 +16,4 @@ for i in range (0, 7):
   if i == 6: RESTRAIN (parnum, angular = [1, 0, 0, 0, 1, 0, 0 ,0, 1])
   for e in ('PX', 'PY', 'PZ', 'VX', 'VY', 'VZ', 'OX', 'OY', 'OZ'):
     H['p%d_%s' % (i, e)] = HISTORY (e, parnum)
-DEM (5, 0.1)
+DEM (5, float (ARGV()[0]) if ARGV() else 0.1)

@@ -22,6 +22,7 @@
 #endif
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -108,6 +109,9 @@ FixParmecSpring::FixParmecSpring(LAMMPS *lmp, int narg, char **arg) :
   local_output(kCols);
   vector_flag = 1;  // CRITICAL: [min per-spring step, min per-particle step]
   size_vector = 2;
+  array_flag = 1;  // CRITICAL(perspring=, perparticle=): (h, omega, xi) per spring, then per atom
+  size_array_cols = 3;
+  extarray = 0;
   global_freq = 1;
   extvector = 0;
 
@@ -327,6 +331,7 @@ void FixParmecSpring::initial_states()
 
 void FixParmecSpring::init()
 {
+  size_array_rows = static_cast<int>(defs_.size() + atom->natoms);
   check_run_style_and_ghosts("springs between two atoms need ghost velocities");
   const bool hasq = atom->quat_flag && atom->quat;
   for (const SpringDef &d : defs_) {
@@ -656,6 +661,14 @@ double FixParmecSpring::compute_vector(int n)
   return crit_[n];
 }
 
+double FixParmecSpring::compute_array(int i, int j)
+{
+  if (crit_step_ != update->ntimestep) critical();
+  crit_step_ = update->ntimestep;
+  const std::size_t k = 3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(j);
+  return k < crit_table_.size() ? crit_table_[k] : 0.0;
+}
+
 void FixParmecSpring::critical()
 {
   constexpr int kRec = 14;  // tag1 tag2 k_s e dir(3) planar arm1(3) arm2(3)
@@ -670,7 +683,7 @@ void FixParmecSpring::critical()
     b.inv_inertia = {inv, 0, 0, 0, inv, 0, 0, 0, inv};
     return b;
   };
-  std::vector<double> mine;
+  std::vector<double> mine, mine_rows;  // mine_rows: (table row, h, omega, xi)
   double hs = INFINITY;
   for (int i = 0; i < atom->nlocal; i++) {
     for (int s = 0; s < records_.count(i); s++) {
@@ -693,7 +706,10 @@ void FixParmecSpring::critical()
       } else {
         m_s = sp::equivalent_mass(b1, d.arm1, nullptr, {0, 0, 0}, zdir);
       }
-      hs = std::min(hs, sp::spring_critical(d.law, m_s).step);
+      const sp::CriticalEstimate es = sp::spring_critical(d.law, m_s);
+      hs = std::min(hs, es.step);
+      const double row[4] = {double(records_.key(i, s)), es.step, es.omega, es.xi};
+      mine_rows.insert(mine_rows.end(), row, row + 4);
       const bool planar = d.mode == sp::DirectionMode::Planar;
       const sp::Vec3 adir = planar ? d.d : zdir;
       const double rec[kRec] = {double(d.tag1), double(d.tag2), d.law.spring->max_abs_slope(),
@@ -725,8 +741,25 @@ void FixParmecSpring::critical()
   for (auto &kv : particles) {
     const int i = owned[kv.first];
     const double J = inertia_of(i) > 0.0 ? inertia_of(i) : 1.0;
-    hp = std::min(hp, kv.second.estimate(mass_of(i), {J, 0, 0, 0, J, 0, 0, 0, J}).step);
+    const sp::CriticalEstimate ep = kv.second.estimate(mass_of(i), {J, 0, 0, 0, J, 0, 0, 0, J});
+    hp = std::min(hp, ep.step);
+    const double row[4] = {double(defs_.size()) + double(kv.first - 1), ep.step, ep.omega, ep.xi};
+    mine_rows.insert(mine_rows.end(), row, row + 4);
   }
+  // every rank gets the whole table (few numbers: one row per spring and per atom)
+  const std::size_t nrows = defs_.size() + static_cast<std::size_t>(atom->natoms);
+  std::vector<double> table(3 * nrows, 0.0);
+  for (std::size_t r = defs_.size(); r < nrows; r++) table[3 * r] = DBL_MAX;
+  n = static_cast<int>(mine_rows.size());
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int p = 1; p < comm->nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
+  std::vector<double> rows(displs.back() + counts.back());
+  MPI_Allgatherv(mine_rows.data(), n, MPI_DOUBLE, rows.data(), counts.data(), displs.data(), MPI_DOUBLE, world);
+  for (std::size_t r = 0; r + 4 <= rows.size(); r += 4) {
+    const std::size_t at = 3 * static_cast<std::size_t>(rows[r]);
+    if (at + 2 < table.size()) std::copy(&rows[r + 1], &rows[r + 4], &table[at]);
+  }
+  crit_table_.swap(table);
   MPI_Allreduce(&hs, &crit_[0], 1, MPI_DOUBLE, MPI_MIN, world);
   MPI_Allreduce(&hp, &crit_[1], 1, MPI_DOUBLE, MPI_MIN, world);
 }

@@ -42,6 +42,9 @@ class FixParmecSpring : public state::PerAtomStateFix {
   void restart(char *buf) override;
 
   double compute_vector(int n) override;
+  // CRITICAL lists: row r < spring_count(): spring r (definition order), row spring_count() + t - 1: atom
+  // with tag t; columns h, omega, xi (h = DBL_MAX for an atom without springs)
+  double compute_array(int i, int j) override;
 
   // Slot of one spring in its part1 atom's list: spring index, SpringState (20), last committed force
   // on part1 (3), flag "force valid" (1).
@@ -141,6 +144,7 @@ class FixParmecSpring : public state::PerAtomStateFix {
   void history_values(const double *rec, double *out) const override;
   void critical();
   double crit_[2] = {0.0, 0.0};
+  std::vector<double> crit_table_;  // 3 per row, see compute_array
   LAMMPS_NS::bigint crit_step_ = -1;
 };
 

@@ -603,12 +603,17 @@ class Model:
 
     def CRITICAL(self, perspring=None, perparticle=None):
         cmd = "CRITICAL"
-        if perspring is not None:
-            fail(cmd, "argument 'perspring' is not supported (the smallest per-spring estimate is the fix's f_S[1])")
-        if perparticle is not None:
-            fail(cmd, "argument 'perparticle' is not supported")
+        counts = {"perspring": len(self.springs), "perparticle": len(self.particles)}
+        args = {}
+        for name, v in (("perspring", perspring), ("perparticle", perparticle)):
+            if v is None:
+                args[name] = -1
+            elif not isinstance(v, int) or isinstance(v, bool) or not 0 <= v <= counts[name]:
+                fail(cmd, f"argument '{name}' must be an integer 0 ... {counts[name]}, got {v!r}")
+            else:
+                args[name] = v
         from .runner import critical_step
-        return critical_step(self)
+        return critical_step(self, **args)
 
     def HISTORY(self, entity, source=0, point=None, h5file=None, h5last=False):
         cmd = "HISTORY"

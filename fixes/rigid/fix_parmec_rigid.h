@@ -3,15 +3,16 @@
 //
 // Design: each atom is one Parmec particle (mass rmass, referential inertia tensor from a per-atom
 // property or the sphere's 0.4 m r²). The rotation Λ (9 values, so Parmec's slightly non-orthogonal Q3
-// matrices can be reproduced) and the body angular velocity Ω live in a fix property/atom created by
-// this fix, which carries them through exchange, sorting and restart. Forces of the other fixes are
+// matrices can be reproduced) and the body angular velocity Ω are one record per body on the per-atom
+// state layer (fixes/state, doc/per_atom_state.md): the bodies are the group's atoms when the fix is
+// defined, and their records follow them through exchange, sorting and restart. Forces of the other fixes are
 // evaluated at (x_{n+1/2}, Λ_{n+1/2}, v_n, ω_n); final_integrate applies gravity, restraints,
 // prescriptions and damping and then kicks and drifts (v_{n+1}, x_{n+3/2}), so the state after LAMMPS
 // step m is Parmec's HISTORY row of step m-1. Restraints and prescriptions are few and replicated
 // (atom tag -> definition).
 #pragma once
 
-#include "fix.h"
+#include "per_atom_state_fix.h"
 
 #include "BodyRotation.h"
 #include "JointSolver.h"
@@ -24,13 +25,13 @@
 
 namespace dembridge {
 
-class FixParmecRigid : public LAMMPS_NS::Fix {
+class FixParmecRigid : public state::PerAtomStateFix {
  public:
   FixParmecRigid(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
   ~FixParmecRigid() override;
   int setmask() override;
-  void post_constructor() override;
   void init() override;
+  void setup(int) override;
   void setup_pre_exchange() override;
   void pre_exchange() override {}
   void final_integrate() override;
@@ -38,6 +39,14 @@ class FixParmecRigid : public LAMMPS_NS::Fix {
   void restart(char *buf) override;
   double compute_array(int i, int j) override;
   int modify_param(int narg, char **arg) override;
+  void grow_arrays(int nmax) override;
+
+  // Record of a body: key, "fresh" (1 until Λ and Ω are taken from the atom at the first setup), Λ
+  // (row-major), Ω.
+  static constexpr int kRecord = 1 + 1 + 9 + 3;
+
+ protected:
+  void evaluate(Mode) override {}  // an integrator: no per-step force evaluation
 
  private:
   // A time-dependent scalar: constant, TSERIES (clamped, Parmec's TMS_Value) or equal-style variable.
@@ -65,14 +74,18 @@ class FixParmecRigid : public LAMMPS_NS::Fix {
   double eval(const Series &s, double t);
   void restrain_velocities();
   void half_drift();
-  void refresh_state();
+  void find_inertia();
+  double *body_record(int i);  // the record of local atom i, nullptr if it is not a body
+  double *lam(int i) { return body_record(i) + 2; }
+  double *omg(int i) { return body_record(i) + 11; }
+  void define_bodies();
+  void fill_rotation_output();
   double step_time() const;  // t_n of the step being integrated
   void setup_joints();       // body list, clusters, arms (first run: from the reference configuration)
   void apply_joints(std::vector<rigid::Vec3> &F0, std::vector<rigid::Vec3> &T0, const double *dl, const double *da,
                     double tv);
   rigid::Mat3 inertia(int i) const;
 
-  std::string cmd_;
   std::map<std::string, springs::TimeSeries> tseries_;
   bool has_gravity_ = false, has_damping_ = false;
   Series gravity_[3], damp_lin_[3], damp_ang_[3];
@@ -99,8 +112,8 @@ class FixParmecRigid : public LAMMPS_NS::Fix {
   bool q26_ = false;  // 'taylor parmec': the ISPC kernels' single-precision series coefficients
   std::string joint_file_;
   FILE *joint_fp_ = nullptr;
-  std::string id_state_;
-  double **L_ = nullptr, **W_ = nullptr, **J_ = nullptr;
+  double **J_ = nullptr;
+  double **rot_out_ = nullptr;  // per-atom output: Λ row-major (f_ID[1..9])
 };
 
 }  // namespace dembridge

@@ -26,7 +26,7 @@ def deck(tmp, steps, write_at=None, read=None, h=1e-3, out="atoms.dump"):
     (tmp / "chain.def").write_text("\n".join(defs) + "\n")
     fix = [f"fix R all parmec/rigid file {tmp}/chain.def"]
     post = [f"timestep {h!r}", f"dump A all custom {steps} {tmp}/{out} id x y z vx vy vz omegax omegay omegaz "
-            + " ".join(f"d2_R_L[{k}]" for k in range(1, 10)), "dump_modify A sort id format float %.17g", f"run {steps}"]
+            + " ".join(f"f_R[{k}]" for k in range(1, 10)), "dump_modify A sort id format float %.17g", f"run {steps}"]
     if write_at:
         post.append(f"write_restart {write_at}")
     head = ["units si", "atom_modify map array", "comm_modify vel yes cutoff 3.0"]
@@ -144,5 +144,20 @@ def test_fix_parmec_rigid_fix_modify_refuses_joints(tmp_path):
         with pytest.raises(Exception) as e:
             lmp.command("fix_modify R prescribe 1 linear v 0 0 0 joint 0 1 0 0 0 -1")
         assert "'joint' cannot change after the fix is defined" in str(e.value)
+    finally:
+        lmp.close()
+
+
+def test_fix_parmec_rigid_bodies_are_the_atoms_at_definition(tmp_path):
+    """The bodies' states are records of the per-atom state layer, made for the group's atoms when the fix is
+    defined: an atom created afterwards in the group has none, which the next run reports."""
+    from dembridge import new_lammps
+    lmp = new_lammps()
+    try:
+        with pytest.raises(Exception) as e:
+            for c in _bad_deck(tmp_path, "gravity 0 0 -1", ["create_atoms 1 single 2 0 0 units box",
+                                                            "set atom 3 diameter 0.5 mass 1.0"]):
+                lmp.command(c)
+        assert "an atom of the group has no rigid-body state" in str(e.value), str(e.value)
     finally:
         lmp.close()

@@ -384,7 +384,7 @@ class Runner:
                     self.cmd(f"variable s{name} equal next(f{name})")
                     self.cmd("group pmH id " + " ".join(str(i + 1) for i in groups))
                     cols = "id x y z vx vy vz omegax omegay omegaz fx fy fz tqx tqy tqz " + \
-                        " ".join(f"d2_R_L[{k}]" for k in range(1, 10))
+                        " ".join(f"f_R[{k}]" for k in range(1, 10))
                     self.cmd(f"dump D{name} pmH custom 1 {out} {cols}")
                     self.cmd(f"dump_modify D{name} sort id")
                 else:

@@ -80,6 +80,7 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   void bind_atoms();
   void interpolate(double s, std::vector<Pose> &out) const;
   void apply_pose(const std::vector<Pose> &poses, bool set_x);
+  bool fast_member_lookup() const;
   void accumulate_loads(const std::vector<Pose> &poses, std::vector<double> &out6);
   void reevaluate_forces(int vflag);
   void stop_run_at_end(const Message &m);
@@ -117,6 +118,9 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   bool first_is_step1_ = false;     // tight, startup_exchange no: first message already received
   std::vector<Pose> prev_msg_;      // loose, predictor correct: the previous message as received
   std::unordered_map<LAMMPS_NS::tagint, Member> members_;
+  std::vector<std::pair<LAMMPS_NS::tagint, Member>> member_list_;  // members_ by tag
+  bool one_atom_per_node_ = false;                                  // every node is `node atom`
+  std::vector<double> local_loads_, step_loads_;                    // per-step buffers, reused
   std::vector<MbdynMeshDriver> meshes_;  // node mesh entries, in order
   int allbits_ = 0;  // union of the group bits of coupled groups (0 if only atoms)
   std::vector<Pose> poseA_, poseB_, cur_;

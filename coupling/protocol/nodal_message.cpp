@@ -70,8 +70,11 @@ void require_finite(const double* values, std::size_t per_point, std::size_t poi
 
 void read_vectors(PayloadReader& r, std::vector<double>& out, std::size_t per_point,
                   std::size_t points, bool present) {
-  if (!present) return;
-  out.resize(per_point * points);
+  if (!present) {
+    out.clear();
+    return;
+  }
+  out.resize(per_point * points);  // the same size as the last message: no allocation, no zero fill
   r.doubles(out.data(), out.size());
 }
 
@@ -154,6 +157,13 @@ void Loads::set_moment(std::size_t i, const Vec3& m) {
 
 Kinematics decode_kinematics(const NodalConfig& config, Command command,
                              const std::uint8_t* payload, std::size_t size) {
+  Kinematics k;
+  decode_kinematics_into(config, command, payload, size, k);
+  return k;
+}
+
+void decode_kinematics_into(const NodalConfig& config, Command command, const std::uint8_t* payload,
+                            std::size_t size, Kinematics& k) {
   const std::size_t expected = config.kinematics_payload_bytes();
   if (size != expected) {
     std::ostringstream msg;
@@ -166,10 +176,13 @@ Kinematics decode_kinematics(const NodalConfig& config, Command command,
   const bool rot = config.has_rotation();
   const bool acc = config.accelerations;
 
-  Kinematics k;
+  // k's vectors keep their capacity from message to message (no allocation, no zero fill); the
+  // fields this layout lacks are emptied, as in a fresh Kinematics.
   k.command = command;
   k.rotation = config.rotation;
   k.has_reference = config.reference_node;
+  k.reference = ReferenceKinematics{};
+  if (!config.labels) k.labels.clear();
   PayloadReader r(payload, size);
 
   if (config.reference_node) {
@@ -213,9 +226,11 @@ Kinematics decode_kinematics(const NodalConfig& config, Command command,
     require_finite(k.omega.data(), 3, rot ? n : 0, "omega", k.labels);
     require_finite(k.a.data(), 3, acc ? n : 0, "a", k.labels);
     require_finite(k.omega_dot.data(), 3, (acc && rot) ? n : 0, "omega_dot", k.labels);
+  } else {  // no points: empty, as in a fresh Kinematics
+    k.labels.clear();
+    for (std::vector<double>* v : {&k.x, &k.orientation, &k.v, &k.omega, &k.a, &k.omega_dot}) v->clear();
   }
   if (r.offset() != size) throw std::logic_error("decode_kinematics: layout and size disagree");
-  return k;
 }
 
 Kinematics decode_kinematics_message(const NodalConfig& config, const std::uint8_t* bytes,

@@ -71,6 +71,9 @@ struct Loads {
 // field, point and label).
 Kinematics decode_kinematics(const NodalConfig& config, Command command,
                              const std::uint8_t* payload, std::size_t size);
+// The same into an existing Kinematics, reusing its storage (per-message path of the session).
+void decode_kinematics_into(const NodalConfig& config, Command command, const std::uint8_t* payload,
+                            std::size_t size, Kinematics& k);
 
 // Decodes a whole kinematics message (command byte + payload), as a fuzzing entry point.
 Kinematics decode_kinematics_message(const NodalConfig& config, const std::uint8_t* bytes,

@@ -41,6 +41,8 @@ PeerSession::PeerSession(SocketTransport transport, const SessionOptions& option
     throw;
   }
   payload_.resize(options_.nodal.kinematics_payload_bytes());
+  // formatted once: read_exact takes it on every message (it is used only in error messages)
+  payload_what_ = "kinematics payload of " + std::to_string(payload_.size()) + " bytes (" + options_.nodal.describe() + ")";
 }
 
 PeerSession::PeerSession(PeerSession&& o) noexcept
@@ -117,7 +119,8 @@ Received PeerSession::receive() {
 Received PeerSession::receive_message() {
   std::uint8_t cmd = 0;
   try {
-    transport_.read_exact(&cmd, 1, options_.io_timeout_s, "a command byte (2, 5 or 6)");
+    static const std::string what = "a command byte (2, 5 or 6)";  // no string built per message
+    transport_.read_exact(&cmd, 1, options_.io_timeout_s, what);
   } catch (const PeerClosedError& e) {
     throw PeerClosedError(std::string(e.what()) +
                           "; MBDyn ended without sending 5 (end of simulation): it crashed or was killed");
@@ -137,10 +140,8 @@ Received PeerSession::receive_message() {
         " coupling expects " + (tight ? "2" : "6") +
         ": the `coupling` of the MBDyn element and of this peer disagree");
 
-  transport_.read_exact(payload_.data(), payload_.size(), options_.io_timeout_s,
-                        "kinematics payload of " + std::to_string(payload_.size()) + " bytes (" +
-                            options_.nodal.describe() + ")");
-  kinematics_ = decode_kinematics(options_.nodal, static_cast<Command>(cmd), payload_.data(), payload_.size());
+  transport_.read_exact(payload_.data(), payload_.size(), options_.io_timeout_s, payload_what_);
+  decode_kinematics_into(options_.nodal, static_cast<Command>(cmd), payload_.data(), payload_.size(), kinematics_);
 
   Received r;
   r.kind = Received::Kind::Kinematics;
@@ -173,11 +174,24 @@ void PeerSession::require_answer_allowed(const char* what) const {
                            ": expected to answer received kinematics, but no answer is pending");
 }
 
+namespace {
+// "the answer <command>" for write errors, formatted once per command code rather than per message.
+const std::string& answer_text(std::uint8_t cmd) {
+  static const std::string t2 = "the answer " + command_name(2), t5 = "the answer " + command_name(5),
+                           t6 = "the answer " + command_name(6);
+  thread_local std::string other;
+  if (cmd == 2) return t2;
+  if (cmd == 5) return t5;
+  if (cmd == 6) return t6;
+  other = "the answer " + command_name(cmd);
+  return other;
+}
+}  // namespace
+
 void PeerSession::write_answer(const std::vector<std::uint8_t>& bytes, bool converged) {
   try {
     // One write per message: MBDyn reads the payload with a single recv (spec P2).
-    transport_.write_all(bytes.data(), bytes.size(), options_.io_timeout_s,
-                         "the answer " + command_name(bytes[0]));
+    transport_.write_all(bytes.data(), bytes.size(), options_.io_timeout_s, answer_text(bytes[0]));
   } catch (const PeerClosedError&) {
     transport_.close();
     state_ = State::Failed;

@@ -95,6 +95,7 @@ class PeerSession {
   State state_ = State::AwaitingKinematics;
   Kinematics kinematics_;
   std::vector<std::uint8_t> payload_;
+  std::string payload_what_;  // "kinematics payload of N bytes (...)", for read errors
   std::uint64_t messages_received_ = 0;
   std::uint64_t step_ = 0;
   std::uint32_t iteration_ = 0;

@@ -88,14 +88,6 @@ std::vector<AtomSnapshot> PerAtomStateFix::snapshot_entity_atoms()
   return snap;
 }
 
-int PerAtomStateFix::second_atom_or_missing(int key, int i, bool closest_image) const
-{
-  int k = atom->map(atoms_[key].second);
-  if (k >= 0 && closest_image && (domain->xperiodic || domain->yperiodic || domain->zperiodic))
-    k = domain->closest_image(i, k);
-  return k;
-}
-
 void PerAtomStateFix::second_atom_missing(int key, const char *hint)
 {
   error->one(FLERR, fmt::format("{}: {}: part2 atom {} is not available to the owner of part1 atom {} (not a ghost, "

@@ -10,6 +10,8 @@
 // and the per-entity CSV history are here too.
 #pragma once
 
+#include "atom.h"
+#include "domain.h"
 #include "fix.h"
 
 #include "definition_reader.h"
@@ -169,5 +171,17 @@ class PerAtomStateFix : public LAMMPS_NS::Fix {
   // atom is i). Fixes whose records are created on the fly (contacts keyed by the partner) override it.
   virtual bool restored_record_fits(int i, const double *rec) const;
 };
+
+// Inline: evaluated for every two-atom entity every step (Atom::map is virtual; the array map is read
+// directly).
+inline int PerAtomStateFix::second_atom_or_missing(int key, int i, bool closest_image) const
+{
+  const LAMMPS_NS::tagint tag2 = atoms_[key].second;
+  int k = atom->map_style == LAMMPS_NS::Atom::MAP_ARRAY ? (tag2 <= atom->map_tag_max ? atom->get_map_array()[tag2] : -1)
+                                                        : atom->map(tag2);
+  if (k >= 0 && closest_image && (domain->xperiodic || domain->yperiodic || domain->zperiodic))
+    k = domain->closest_image(i, k);
+  return k;
+}
 
 }  // namespace dembridge::state

@@ -120,7 +120,7 @@ void FixContactHistory::atoms_from_list()
       const int i = ilist[ii];
       const int *jlist = list_->firstneigh[i];
       for (int jj = 0; jj < numneigh[i]; jj++) {
-        if (!touched(i, jj)) continue;
+        if (touched(i, jj) == gran::TouchFlag::Separated) continue;
         const int j = jlist[jj] & NEIGHMASK;
         if (now[i] >= 0) visit(now[i], list_tag_[j], slot(i, jj), 1.0);
         if (j < nold && now[j] >= 0) visit(now[j], list_tag_[i], slot(i, jj), -1.0);
@@ -170,9 +170,9 @@ void FixContactHistory::list_from_atoms()
   }
   // release the storage of a denser past (assign never shrinks a vector)
   if (values_.capacity() > 2 * total * nv_ + 4096) std::vector<double>().swap(values_);
-  if (touch_.capacity() > 2 * total + 4096) std::vector<unsigned char>().swap(touch_);
+  if (touch_.capacity() > 2 * total + 4096) std::vector<gran::TouchFlag>().swap(touch_);
   values_.assign(total * nv_, 0.0);
-  touch_.assign(total, 0);
+  touch_.assign(total, gran::TouchFlag::Separated);
   for (int ii = 0; ii < list_->inum; ii++) {
     const int i = ilist[ii];
     if (npartner_[i] == 0) continue;
@@ -183,7 +183,7 @@ void FixContactHistory::list_from_atoms()
       for (int k = 0; k < npartner_[i]; k++) {
         if (pool_tag_[base + k] != tj) continue;
         std::memcpy(slot(i, jj), &pool_val_[(base + k) * nv_], nv_ * sizeof(double));
-        touched(i, jj) = 1;
+        touched(i, jj) = gran::TouchFlag::Touching;
         break;
       }
     }

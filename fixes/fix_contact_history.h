@@ -19,6 +19,7 @@
 #pragma once
 
 #include "fix.h"
+#include "touch_flag.h"
 
 #include <vector>
 
@@ -43,8 +44,12 @@ class FixContactHistory : public LAMMPS_NS::Fix {
   void set_list(LAMMPS_NS::NeighList *list) { list_ = list; }
   // Slot of the jj-th neighbour of local atom i; valid between post_neighbor and pre_exchange.
   double *slot(int i, int jj) { return &values_[(first_[i] + jj) * nv_]; }
-  unsigned char &touched(int i, int jj) { return touch_[first_[i] + jj]; }
+  gran::TouchFlag &touched(int i, int jj) { return touch_[first_[i] + jj]; }
   bool list_valid() const { return list_valid_; }
+  // The list-order arrays themselves (the pair loop indexes them with first_slots()).
+  double *values() { return values_.data(); }
+  gran::TouchFlag *touch_flags() { return touch_.data(); }
+  const std::size_t *first_slots() const { return first_.data(); }
   void mark_updated() { atoms_stale_ = true; }  // the pair changed list values this step
 
   void grow_arrays(int nmax) override;
@@ -73,7 +78,7 @@ class FixContactHistory : public LAMMPS_NS::Fix {
   // list order, with the tags and the owned-atom count the list was built with
   std::vector<std::size_t> first_;
   std::vector<double> values_;
-  std::vector<unsigned char> touch_;
+  std::vector<gran::TouchFlag> touch_;
   std::vector<LAMMPS_NS::tagint> list_tag_;
   int list_nlocal_ = 0;
 

@@ -268,6 +268,48 @@ double PairGran::effective_mass(int i, int j) const
   return meff;
 }
 
+gran::PairLoopData PairGran::loop_data() const
+{
+  gran::PairLoopData d;
+  d.x = atom->x[0];
+  d.v = atom->v[0];
+  d.omega = atom->omega[0];
+  d.radius = atom->radius;
+  d.rmass = atom->rmass;
+  d.type = atom->type;
+  d.mask = atom->mask;
+  d.mass_rigid = fix_rigid_ ? mass_rigid_.data() : nullptr;
+  d.freeze_groupbit = freeze_groupbit_;
+  d.nlocal = atom->nlocal;
+  d.newton_pair = force->newton_pair;
+  d.ilist = list->ilist;
+  d.numneigh = list->numneigh;
+  d.firstneigh = list->firstneigh;
+  d.neighmask = NEIGHMASK;
+  if (history_) {
+    d.hist = history_->values();
+    d.touch = history_->touch_flags();
+    d.hist_first = history_->first_slots();
+    d.nv = history_->nvalues();
+  }
+  d.history_update = !update->setupflag;
+  d.clear_separated = !model_.contact.stale_springs_until_rebuild || neighbor->ago == 0;
+  d.dt = update->dt;
+  d.coeffs = &table_.at(0, 0);
+  d.coeff_stride = table_.max_type() + 1;
+  d.max_type = table_.max_type();
+  d.law = &law_;
+  return d;
+}
+
+void PairGran::loop_failed(const gran::PairLoopError &e)
+{
+  if (e.kind == gran::PairLoopError::TypeAfterInit)
+    error->one(FLERR, "pair_style " + style_name_ + ": atom type " + std::to_string(atom->type[e.i]) +
+                          " appeared after init; the material table only covers types up to " + std::to_string(table_.max_type()));
+  degenerate_contact(e.i, e.j, e.kind == gran::PairLoopError::Coincident);
+}
+
 void PairGran::begin_contacts()
 {
   if (history_ && !history_->list_valid())
@@ -287,23 +329,26 @@ void PairGran::compute(int eflag, int vflag)
   ev_init(eflag, vflag);
   if (!model_.force_on) return;
   begin_contacts();
-  double **x = atom->x, **f = atom->f, **torque = atom->torque;
+  if (list->inum == 0) return end_contacts();  // (no per-atom arrays to point at)
+  double *f = atom->f[0], *torque = atom->torque[0];
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
   for_each_contact(0, list->inum, [&](int i, int j, int, int, const gran::ContactResult &res) {
     for (int k = 0; k < 3; k++) {
-      f[i][k] += res.F[k];
-      torque[i][k] += res.Ti[k];
+      f[3 * i + k] += res.F[k];
+      torque[3 * i + k] += res.Ti[k];
     }
     if (newton_pair || j < nlocal) {
       for (int k = 0; k < 3; k++) {
-        f[j][k] -= res.F[k];
-        torque[j][k] += res.Tj[k];
+        f[3 * j + k] -= res.F[k];
+        torque[3 * j + k] += res.Tj[k];
       }
     }
-    if (evflag)
+    if (evflag) {
+      double **x = atom->x;
       ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, res.F[0], res.F[1], res.F[2], x[i][0] - x[j][0], x[i][1] - x[j][1],
                    x[i][2] - x[j][2]);
+    }
   });
   end_contacts();
 }

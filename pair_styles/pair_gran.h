@@ -7,6 +7,7 @@
 #include "pair.h"
 
 #include "contact_law.h"
+#include "pair_gran_kernel.h"
 #include "material_table.h"
 #include "model_syntax.h"
 
@@ -45,6 +46,9 @@ class PairGran : public LAMMPS_NS::Pair {
   template <class Sink> void for_each_contact(int ii_from, int ii_to, Sink &&sink);
   void begin_contacts();
   void end_contacts();
+  // The arrays of this step for the loop (pair_gran_kernel.h); no side effects, cheap.
+  gran::PairLoopData loop_data() const;
+  [[noreturn]] void loop_failed(const gran::PairLoopError &e);
   const std::string &style_name() const { return style_name_; }
   bool force_on() const { return model_.force_on; }
 

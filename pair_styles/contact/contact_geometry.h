@@ -35,16 +35,17 @@ inline void surface_velocity(ContactGeometry &g, const double *wr)
   g.vtr[2] = vt[2] - (g.del[1] * wr[0] - g.del[0] * wr[1]);
 }
 
-// Returns false (and leaves g partially filled) when the spheres do not overlap (strict <).
+// Geometry of two touching spheres from the centre difference del = x_i - x_j and rsq = |del|²
+// the caller's overlap test computed (the neighbour loop reuses them).
 // contact_radius_lever: LIGGGHTS lever arm R - δ/2 (true) or LAMMPS's R (false).
-inline bool make_geometry(const SphereView &a, const SphereView &b, bool contact_radius_lever, ContactGeometry &g)
+[[gnu::always_inline]] inline void make_touching_geometry(const SphereView &a, const SphereView &b, const double *del, double rsq,
+                                                        bool contact_radius_lever, ContactGeometry &g)
 {
-  g.del[0] = a.x[0] - b.x[0];
-  g.del[1] = a.x[1] - b.x[1];
-  g.del[2] = a.x[2] - b.x[2];
-  g.rsq = dot3(g.del, g.del);
+  g.del[0] = del[0];
+  g.del[1] = del[1];
+  g.del[2] = del[2];
+  g.rsq = rsq;
   const double radsum = a.radius + b.radius;
-  if (g.rsq >= radsum * radsum) return false;
   g.r = std::sqrt(g.rsq);
   g.rinv = 1.0 / g.r;
   for (int k = 0; k < 3; ++k) g.n[k] = g.del[k] * g.rinv;
@@ -56,6 +57,16 @@ inline bool make_geometry(const SphereView &a, const SphereView &b, bool contact
   for (int k = 0; k < 3; ++k) wr[k] = (g.cri * a.omega[k] + g.crj * b.omega[k]) * g.rinv;
   surface_velocity(g, wr);
   g.reff = a.radius * b.radius / radsum;
+}
+
+// Returns false (and leaves g unfilled) when the spheres do not overlap (strict <).
+inline bool make_geometry(const SphereView &a, const SphereView &b, bool contact_radius_lever, ContactGeometry &g)
+{
+  const double del[3] = {a.x[0] - b.x[0], a.x[1] - b.x[1], a.x[2] - b.x[2]};
+  const double rsq = dot3(del, del);
+  const double radsum = a.radius + b.radius;
+  if (rsq >= radsum * radsum) return false;
+  make_touching_geometry(a, b, del, rsq, contact_radius_lever, g);
   return true;
 }
 

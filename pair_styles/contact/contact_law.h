@@ -32,45 +32,49 @@ class ContactLaw {
 
  private:
   ContactConfig cfg_;
+
+ public:
+  // The sub-models on a contact geometry, for a given configuration. The pair kernels pass a copy
+  // of config() whose normal/tangential fields are compile-time constants, so the switches fold.
   template <bool Wall>
-  void apply_laws(const ContactGeometry &g, const SphereView &a, const double *roll_wi, const double *roll_wj, double mj, double rj,
-                  double meff,
-                  const PairCoeffs &pc, double *history, bool history_update, double dt, ContactResult &out) const;
+  static void apply_laws(const ContactConfig &cfg, const ContactGeometry &g, const SphereView &a, const double *roll_wi,
+                         const double *roll_wj, double mj, double rj, double meff, const PairCoeffs &pc, double *history,
+                         bool history_update, double dt, ContactResult &out);
 };
 
 // Normal, cohesion, tangential and rolling sub-models on a contact geometry. roll_wi - roll_wj is
 // the relative rotation of the rolling models: ω_i − ω_j for pairs, the wall's cr·ω_i/r − 0 (exact)
 // for walls. Walls also use the cap-area cohesion and the wall rolling rules; mj, rj are unused.
 template <bool Wall>
-[[gnu::always_inline]] inline void ContactLaw::apply_laws(const ContactGeometry &g, const SphereView &a, const double *roll_wi,
-                                                         const double *roll_wj, double mj,
-                                                         double rj, double meff, const PairCoeffs &pc, double *history,
-                                                         bool history_update, double dt, ContactResult &out) const
+[[gnu::always_inline]] inline void ContactLaw::apply_laws(const ContactConfig &cfg, const ContactGeometry &g, const SphereView &a,
+                                                         const double *roll_wi, const double *roll_wj, double mj, double rj,
+                                                         double meff, const PairCoeffs &pc, double *history, bool history_update,
+                                                         double dt, ContactResult &out)
 {
-  const NormalCoefficients c = normal_coefficients(cfg_, pc, g, meff);
+  const NormalCoefficients c = normal_coefficients(cfg, pc, g, meff);
 
   double Fn = -c.gamman * g.vn + c.kn * g.delta;
-  if (cfg_.limit_force && Fn < 0.0) Fn = 0.0;
+  if (cfg.limit_force && Fn < 0.0) Fn = 0.0;
   // Cohesion pulls along n; with tangential_reduce (always in 2.x) it also lowers the Coulomb
   // and rolling limits (spec §6).
   double Fcoh = 0.0;
-  if (cfg_.cohesion != CohesionModel::Off)
-    Fcoh = Wall ? cohesion_force_wall(cfg_.cohesion, g, a.radius, pc.cohesion_energy_density)
-                : cohesion_force(cfg_.cohesion, g, a.radius, rj, pc.cohesion_energy_density);
-  const double Fn_limit = cfg_.tangential_reduce ? Fn + Fcoh : Fn;
+  if (cfg.cohesion != CohesionModel::Off)
+    Fcoh = Wall ? cohesion_force_wall(cfg.cohesion, g, a.radius, pc.cohesion_energy_density)
+                : cohesion_force(cfg.cohesion, g, a.radius, rj, pc.cohesion_energy_density);
+  const double Fn_limit = cfg.tangential_reduce ? Fn + Fcoh : Fn;
   out.Fn = Fn + Fcoh;
   out.delta = g.delta;
 
   const double Ft_max = pc.mu * std::fabs(Fn_limit);
   double *Ft = out.Ft;
   double *shear = history;
-  switch (cfg_.tangential) {
+  switch (cfg.tangential) {
     default:  // None; 'default' tells GCC every path writes Ft (-Wmaybe-uninitialized)
       Ft[0] = Ft[1] = Ft[2] = 0.0;
       break;
     case TangentialModel::NoHistory: tangential_no_history(g, c.gammat, Ft_max, Ft); break;
     case TangentialModel::History:
-      tangential_history(g, c.kt, c.gammat, Ft_max, dt, history_update, cfg_.legacy_2x_expressions, shear, Ft);
+      tangential_history(g, c.kt, c.gammat, Ft_max, dt, history_update, cfg.legacy_2x_expressions, shear, Ft);
       break;
   }
 
@@ -81,11 +85,11 @@ template <bool Wall>
     out.Ti[k] = -g.cri * tor[k];
     out.Tj[k] = -g.crj * tor[k];
   }
-  if (cfg_.rolling != RollingModel::Off) {
-    double *rolling_history = history + (cfg_.tangential == TangentialModel::History ? 3 : 0);
+  if (cfg.rolling != RollingModel::Off) {
+    double *rolling_history = history + (cfg.tangential == TangentialModel::History ? 3 : 0);
     const RollingInput in{c.kn, c.kt, Fn_limit, pc.mu_roll, pc.eta_roll, pc.roll_stiffness, a.mass, mj, a.radius, rj, Wall, g.cri};
     double M[3];
-    rolling_torque(cfg_, g, roll_wi, roll_wj, in, dt, history_update, rolling_history, M);
+    rolling_torque(cfg, g, roll_wi, roll_wj, in, dt, history_update, rolling_history, M);
     for (int k = 0; k < 3; ++k) {
       out.Ti[k] -= M[k];
       out.Tj[k] += M[k];
@@ -101,7 +105,7 @@ template <bool Wall>
   if (cfg_.lammps_formulation) return evaluate_lammps_gran(cfg_, a, b, meff, pc, history, history_update, dt, out);
   ContactGeometry g;
   if (!make_geometry(a, b, true, g)) return false;
-  apply_laws<false>(g, a, a.omega, b.omega, b.mass, b.radius, meff, pc, history, history_update, dt, out);
+  apply_laws<false>(cfg_, g, a, a.omega, b.omega, b.mass, b.radius, meff, pc, history, history_update, dt, out);
   return true;
 }
 
@@ -112,7 +116,23 @@ inline void ContactLaw::evaluate_wall(const SphereView &a, const WallTouch &w, d
   ContactGeometry g;
   make_wall_geometry(a, w, g);
   static constexpr double kNoSpin[3] = {0.0, 0.0, 0.0};
-  apply_laws<true>(g, a, g.wr_wall, kNoSpin, 0.0, 0.0, meff, pc, history, history_update, dt, out);
+  apply_laws<true>(cfg_, g, a, g.wr_wall, kNoSpin, 0.0, 0.0, meff, pc, history, history_update, dt, out);
+}
+
+// One touching pair of the LIGGGHTS laws with the neighbour loop's del and rsq reused; the normal
+// and tangential models are template arguments (the other switches stay run-time: they cost a
+// test each, the models a whole dispatch).
+template <NormalModel Normal, TangentialModel Tangential>
+[[gnu::always_inline]] inline void liggghts_pair_touching(const ContactConfig &config, const SphereView &a, const SphereView &b,
+                                                        const double *del, double rsq, double meff, const PairCoeffs &pc,
+                                                        double *history, bool history_update, double dt, ContactResult &out)
+{
+  ContactConfig cfg = config;
+  cfg.normal = Normal;
+  cfg.tangential = Tangential;
+  ContactGeometry g;
+  make_touching_geometry(a, b, del, rsq, true, g);
+  ContactLaw::apply_laws<false>(cfg, g, a, a.omega, b.omega, b.mass, b.radius, meff, pc, history, history_update, dt, out);
 }
 
 }  // namespace dembridge::gran

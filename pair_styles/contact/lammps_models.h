@@ -9,17 +9,21 @@
 #include "contact_result.h"
 #include "pair_coeffs.h"
 
+#include <algorithm>
+#include <type_traits>
+
 namespace dembridge::gran {
 
-[[gnu::always_inline]] inline bool evaluate_lammps_gran(const ContactConfig &cfg, const SphereView &a, const SphereView &b, double meff,
-                                 const PairCoeffs &pc, double *shear, bool update, double dt, ContactResult &out)
+// One touching pair of the LAMMPS laws, with the neighbour loop's del = x_i - x_j and rsq reused.
+// Hertz, History and LimitDamping are template arguments so that the neighbour loop has no
+// run-time switch per contact (issue 12: the kernel the pair and omp styles call).
+template <bool Hertz, bool History, bool LimitDamping>
+[[gnu::always_inline]] inline void lammps_gran_touching(const SphereView &a, const SphereView &b, double delx, double dely, double delz,
+                                                     double rsq, double meff, const PairCoeffs &pc, double *shear, bool update,
+                                                     double dt, ContactResult &out)
 {
-  const double delx = a.x[0] - b.x[0], dely = a.x[1] - b.x[1], delz = a.x[2] - b.x[2];
-  const double rsq = delx * delx + dely * dely + delz * delz;
   const double radi = a.radius, radj = b.radius, radsum = radi + radj;
-  if (rsq >= radsum * radsum) return false;
   const double r = std::sqrt(rsq), rinv = 1.0 / r, rsqinv = 1.0 / rsq;
-
   const double vr1 = a.v[0] - b.v[0], vr2 = a.v[1] - b.v[1], vr3 = a.v[2] - b.v[2];
   const double vnnr = vr1 * delx + vr2 * dely + vr3 * delz;
   const double vt1 = vr1 - delx * vnnr * rsqinv, vt2 = vr2 - dely * vnnr * rsqinv, vt3 = vr3 - delz * vnnr * rsqinv;
@@ -27,22 +31,21 @@ namespace dembridge::gran {
   const double wr2 = (radi * a.omega[1] + radj * b.omega[1]) * rinv;
   const double wr3 = (radi * a.omega[2] + radj * b.omega[2]) * rinv;
 
-  const bool hertz = cfg.normal == NormalModel::HertzStiffness;
   const double damp = meff * pc.gamman * vnnr * rsqinv;
   double ccel = pc.kn * (radsum - r) * rinv - damp;
   double polyhertz = 1.0;
-  if (hertz) {
+  if constexpr (Hertz) {
     polyhertz = std::sqrt((radsum - r) * radi * radj / radsum);
     ccel *= polyhertz;
   }
-  if (cfg.limit_damping && ccel < 0.0) ccel = 0.0;
+  if (LimitDamping && ccel < 0.0) ccel = 0.0;
 
   const double vtr1 = vt1 - (delz * wr2 - dely * wr3);
   const double vtr2 = vt2 - (delx * wr3 - delz * wr1);
   const double vtr3 = vt3 - (dely * wr1 - delx * wr2);
 
   double fs1, fs2, fs3;
-  if (cfg.tangential == TangentialModel::History) {
+  if constexpr (History) {
     if (update) {
       shear[0] += vtr1 * dt;
       shear[1] += vtr2 * dt;
@@ -103,6 +106,31 @@ namespace dembridge::gran {
   out.Ft[1] = fs2;
   out.Ft[2] = fs3;
   out.delta = radsum - r;
+}
+
+
+// The whole law for any pair (per-contact output, tests): the overlap test, then the kernel.
+inline bool evaluate_lammps_gran(const ContactConfig &cfg, const SphereView &a, const SphereView &b, double meff, const PairCoeffs &pc,
+                                 double *shear, bool update, double dt, ContactResult &out)
+{
+  const double delx = a.x[0] - b.x[0], dely = a.x[1] - b.x[1], delz = a.x[2] - b.x[2];
+  const double rsq = delx * delx + dely * dely + delz * delz;
+  const double radsum = a.radius + b.radius;
+  if (rsq >= radsum * radsum) return false;
+  const bool hertz = cfg.normal == NormalModel::HertzStiffness, history = cfg.tangential == TangentialModel::History;
+  auto run = [&](auto h, auto hist, auto lim) {
+    lammps_gran_touching<decltype(h)::value, decltype(hist)::value, decltype(lim)::value>(a, b, delx, dely, delz, rsq, meff, pc, shear,
+                                                                                         update, dt, out);
+  };
+  using T = std::true_type;
+  using F = std::false_type;
+  if (hertz) {
+    if (history) cfg.limit_damping ? run(T{}, T{}, T{}) : run(T{}, T{}, F{});
+    else cfg.limit_damping ? run(T{}, F{}, T{}) : run(T{}, F{}, F{});
+  } else {
+    if (history) cfg.limit_damping ? run(F{}, T{}, T{}) : run(F{}, T{}, F{});
+    else cfg.limit_damping ? run(F{}, F{}, T{}) : run(F{}, F{}, F{});
+  }
   return true;
 }
 

@@ -1,0 +1,10 @@
+// Per-slot "in contact" flag of the list-order contact history. An enum, not unsigned char: a
+// store through a char type may alias anything, which made the compiler reload every array
+// pointer of the neighbour loop after each flag store (issue 12, callgrind).
+#pragma once
+
+namespace dembridge::gran {
+
+enum class TouchFlag : unsigned char { Separated = 0, Touching = 1 };
+
+}  // namespace dembridge::gran

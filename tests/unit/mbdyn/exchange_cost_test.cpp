@@ -112,7 +112,8 @@ TEST(ExchangeCost, CoupledExchangeAgainstBareRoundTrip) {
       std::printf("[ cost     ] %-4s N=%3u  kin %6zu B  loads %5zu B  exchange %7.1f us  bare round trip %6.1f us\n",
                   tcp ? "tcp" : "unix", nodes, c.kinematics_payload_bytes(), c.loads_payload_bytes(), coupled * 1e6,
                   bare * 1e6);
-      // A Nagle/delayed-ACK stall would cost 40 ms per exchange (spec P3).
-      EXPECT_LT(coupled, 2e-3);
+      // A Nagle/delayed-ACK stall would cost 40 ms per exchange (spec P3). Half of that: the bound
+      // separates a stall from a slow machine (4.1 ms for N=100 under ASan on a loaded host).
+      EXPECT_LT(coupled, 20e-3);
     }
 }

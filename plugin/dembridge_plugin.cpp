@@ -25,10 +25,11 @@ extern "C" __attribute__((visibility("default"))) void lammpsplugin_init(void *l
   auto *host = static_cast<LAMMPS_NS::LAMMPS *>(lmp);
   const auto verdict = dembridge::check_host_version(DEMBRIDGE_LAMMPS_NUM_VER, host->num_ver, host->version,
                                                      std::getenv("DEMBRIDGE_ALLOW_VERSION_MISMATCH"));
-  if (!verdict.message.empty()) LAMMPS_NS::utils::logmesg(host, verdict.message + "\n");
-  if (!verdict.accept) return;
   // logmesg writes on every rank that has a screen during plugin auto-load: print once
-  if (host->comm->me == 0)
+  const bool first_rank = host->comm->me == 0;
+  if (!verdict.message.empty() && first_rank) LAMMPS_NS::utils::logmesg(host, verdict.message + "\n");
+  if (!verdict.accept) return;
+  if (first_rank)
     LAMMPS_NS::utils::logmesg(host, dembridge::load_banner(DEMBRIDGE_VERSION, DEMBRIDGE_LAMMPS_NUM_VER) + "\n");
 
   auto reg = reinterpret_cast<dembridge_regfunc>(regfunc);

@@ -26,6 +26,7 @@ namespace pc = parmec_contact;
 using mesh::Vec3;
 
 namespace {
+constexpr double kPi = 3.14159265358979323846;  // contact areas
 
 Vec3 vec(const double *a) { return {a[0], a[1], a[2]}; }
 
@@ -56,6 +57,7 @@ FixParmecGranular::FixParmecGranular(LAMMPS *lmp, int narg, char **arg) :
   global_freq = 1;
   extvector = 0;
   maxexchange_dynamic = 1;
+  local_output(kCols);
 }
 
 // ------------------------------------------------------------------------------------------ parsing
@@ -274,6 +276,7 @@ void FixParmecGranular::evaluate(Mode mode)
     for (int ii = 0; ii < list_->inum; ii++) slot[list_->ilist[ii]] = ii;
 
   for (double &c : counts_) c = 0.0;
+  std::vector<double> rows;  // local output (kCols per contact)
   std::vector<Term> terms;
   std::vector<double> fresh;  // the contacts kept this step: key, s (3)
   int most = 0;
@@ -289,7 +292,7 @@ void FixParmecGranular::evaluate(Mode mode)
     // key: the contact's; from: the record holding its state (the key itself, or a contact it continues)
     // keep = false: Parmec's last force of a separating contact (quirks parmec), which is then dropped
     auto contact = [&](int key, int from, const pc::Pairing &p, const Vec3 &n, const Vec3 &arm, const Vec3 &vother,
-                       double depth, double meff, bool keep) {
+                       double depth, double meff, bool keep, int color2, double area) {
       if (from == 0) from = key;
       Vec3 s{0.0, 0.0, 0.0};
       for (int r = 0; r < records_.count(i); r++)
@@ -303,6 +306,12 @@ void FixParmecGranular::evaluate(Mode mode)
       const Vec3 t = mesh::cross(arm, out.f);
       terms.push_back({key, {out.f[0], out.f[1], out.f[2]}, {t[0], t[1], t[2]}});
       if (keep) fresh.insert(fresh.end(), {double(key), s[0], s[1], s[2]});
+      if (key < 0 || key > tag[i]) {
+        const Vec3 point = mesh::add(xi, arm);
+        rows.insert(rows.end(), {double(tag[i]), key > 0 ? double(key) : -1.0, double(ci), double(color2), point[0],
+                                 point[1], point[2], depth, out.f[0], out.f[1], out.f[2], out.fn, n[0], n[1], n[2],
+                                 out.kn * depth, area});
+      }
       if (key > 0) {
         counts_[0] += 0.5;
       } else {
@@ -335,8 +344,11 @@ void FixParmecGranular::evaluate(Mode mode)
         const Vec3 point = mesh::scale(mesh::add(xi, xj), 0.5);
         const Vec3 armj = mesh::sub(point, xj);
         const Vec3 vj = mesh::add(vec(v[j]), mesh::cross(vec(omega[j]), armj));
+        // contact area: the circle where the two spheres intersect (0 when they only touch)
+        const double along = (len * len + radius[i] * radius[i] - radius[j] * radius[j]) / (2.0 * len);
+        const double area = kPi * std::max(0.0, radius[i] * radius[i] - along * along);
         contact(static_cast<int>(tag[j]), 0, p, n, mesh::sub(point, xi), vj, depth, pc::effective_mass(rmass[i], rmass[j]),
-                depth > 0.0);
+                depth > 0.0, cj, area);
       }
     }
     // obstacles: the closest point of each touching triangle. A flat surface of several triangles acts once
@@ -380,7 +392,9 @@ void FixParmecGranular::evaluate(Mode mode)
             }
           }
           const Vec3 n = mesh::scale(c.delta, -1.0 / len);
-          contact(key, carry, p, n, c.delta, ob.velocity_at(mesh::add(xi, c.delta)), depth, rmass[i], depth > 0.0);
+          const double area = kPi * std::max(0.0, radius[i] * radius[i] - len * len);  // the sphere's cut by the plane
+          contact(key, carry, p, n, c.delta, ob.velocity_at(mesh::add(xi, c.delta)), depth, rmass[i], depth > 0.0,
+                  ob.color(*t), area);
         }
     }
     std::sort(terms.begin(), terms.end(), [](const Term &a, const Term &b) { return a.key < b.key; });
@@ -399,6 +413,9 @@ void FixParmecGranular::evaluate(Mode mode)
     }
   }
   if (commit) maxexchange = std::max(maxexchange, 1 + most * kRecord);
+  const int nrows = static_cast<int>(rows.size() / kCols);
+  local_rows(nrows);
+  for (int r = 0; r < nrows; r++) std::copy_n(rows.data() + std::size_t(r) * kCols, kCols, array_local[r]);
 }
 
 double FixParmecGranular::compute_vector(int n)

@@ -25,6 +25,10 @@ namespace dembridge {
 class FixParmecGranular : public state::PerAtomStateFix {
  public:
   static constexpr int kRecord = 4;  // key, tangential displacement (3)
+  // Local output, one row per contact of the last evaluation (each sphere pair once, from its lower tag):
+  // tag, partner tag (-1: obstacle), colour, partner colour, contact point (3), depth, force on the first
+  // body (3), normal force, unit normal n (3, from the partner to the first body), k_n depth, contact area.
+  static constexpr int kCols = 17;
   FixParmecGranular(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
 
   int setmask() override;

@@ -642,8 +642,11 @@ class Model:
         if mode is not None:
             modes = list(mode) if isinstance(mode, (list, tuple)) else [mode]
             for m in modes:
-                if m not in ("SPH", "MESH", "RB", "CD", "SL", "ST", "JT"):
-                    fail(cmd, f"argument 'mode': unknown mode {m!r}")
+                if m not in ("SPH", "MESH", "RB", "CD", "SL", "ST", "TS", "JT"):
+                    fail(cmd, f"argument 'mode': unknown mode {m!r} (expected 'SPH', 'MESH', 'RB', 'CD', 'SL', "
+                              "'ST' (or 'TS'), 'JT')")
+            # the seed names the torsion spring mode 'ST' in the mode list and 'TS' in the entity list
+            modes = list(dict.fromkeys("ST" if m == "TS" else m for m in modes))
         if entities is not None:
             known = {"NUMBER", "COLOR", "DISPL", "LENGTH", "ORIENT", "ORIENT1", "ORIENT2", "ORIENT3", "LINVEL",
                      "ANGVEL", "FORCE", "TORQUE", "F", "FN", "FT", "SF", "FF", "SS", "AREA", "PAIR", "XDIR", "YDIR",

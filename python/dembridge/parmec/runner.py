@@ -11,7 +11,7 @@ import time
 from .errors import ParmecError, fail
 from .history import JOINT, SPRING, TORSION, particle_value
 from . import geometry as geo
-from . import vtk_output
+from . import output_files
 
 
 def _r(x):
@@ -366,16 +366,17 @@ class Runner:
         groups = sorted({i for r in m.histories if r["kind"] == "particle" for i in r["ids"]})
         if m.outputs:
             groups = list(range(len(m.particles)))
+        modes = output_files.needed_modes(m)
+        wanted = {"particle": bool(groups),
+                  "spring": any(r["kind"] == "spring" for r in m.histories) or ("SL" in modes and bool(m.springs)),
+                  "torsion": any(r["kind"] == "torsion" for r in m.histories) or ("ST" in modes and bool(m.torsions)),
+                  "contact": "CD" in modes and m.contact_active()}
         steps = sorted({s for s, _ in samples} | {s for s in frames if s > self.lammps_step})
         dumps = []
         if steps:
             final = self.lammps_step + nsteps + 10 ** 9
-            for name, style in (("P", "particle"), ("S", "spring"), ("T", "torsion")):
-                if style == "particle" and not groups:
-                    continue
-                if style == "spring" and not any(r["kind"] == "spring" for r in m.histories):
-                    continue
-                if style == "torsion" and not any(r["kind"] == "torsion" for r in m.histories):
+            for name, style in (("P", "particle"), ("S", "spring"), ("T", "torsion"), ("C", "contact")):
+                if not wanted[style]:
                     continue
                 out = self.path(f"hist_{name}_{self.lammps_step}.dump")
                 if style == "particle":
@@ -388,8 +389,7 @@ class Runner:
                     self.cmd(f"dump D{name} pmH custom 1 {out} {cols}")
                     self.cmd(f"dump_modify D{name} sort id")
                 else:
-                    ncol = 7 if style == "spring" else 16
-                    fid = "S" if style == "spring" else "T"
+                    ncol, fid = {"spring": (7, "S"), "torsion": (16, "T"), "contact": (17, "G")}[style]
                     # local dumps every step (a variable 'every' is refused for them), read at the sampled steps
                     self.cmd(f"dump D{name} all local 1 {out} " + " ".join(f"f_{fid}[{c}]" for c in range(1, ncol + 1)))
                 if style == "particle":
@@ -411,39 +411,41 @@ class Runner:
         m.step_count += nsteps
         for _ in range(nsteps):
             m.curtime += h
-        data = {style: _read_dump(out) for _, style, out in dumps}
-        if any(r["kind"] == "joint" for r in m.histories):
+        keep = set(steps)
+        data = {style: _read_dump(out, keep, keyed=style != "contact") for _, style, out in dumps}
+        if any(r["kind"] == "joint" for r in m.histories) or (m.joints and "JT" in modes):
             data["joint"] = _read_joints(self.path("joints.csv"))
         for step, label in samples:
-            self._append_row(label, {st: data[st].get(step, {}) for st in data})
+            self._append_row(label, {st: data[st].get(step, {}) for st in data if st != "contact"})
         if m.outputs:
-            self._write_outputs(frames, data.get("particle", {}), prefix)
+            self._write_outputs(frames, data, prefix)
         return elapsed
 
-    def _write_outputs(self, frames, snaps, prefix):
-        """OUTPUT files at Parmec's output-file times, written by rank 0 from the front end's particle dump:
-        format 'VTK' (default): VTK XML files with .pvd time series (vtk_output.py); 'DUMP': LAMMPS text dumps
-        PREFIX0.dump (all particles) and PREFIXk.dump (k-th OUTPUT call with a subset), appended over DEM
-        calls, which ParaView opens with its LAMMPS dump reader."""
+    def _write_outputs(self, frames, data, prefix):
+        """OUTPUT files at Parmec's output-file times, written by rank 0 from the front end's dumps: format
+        'VTK' (default): VTK XML files with .pvd time series (output_files.py); 'DUMP': LAMMPS text dumps
+        PREFIXk.dump of each output group (output_files.groups), appended over DEM calls, which ParaView
+        opens with its LAMMPS dump reader."""
         m = self.model
         if prefix is not None:
             m.prefix = prefix
         base = m.prefix or (os.path.splitext(m.script)[0] if m.script else "parmec")
         if self.rank != 0 or not frames:
             return
-        k = 0
-        for o in m.outputs:
-            if o["subset"] is None:
-                idx, ids = 0, list(range(len(m.particles)))
-            else:
-                k += 1
-                idx, ids = k, list(o["subset"])
-            if "VTK" in o.get("formats", ["DUMP"]):
-                series = [(self._frame_time[step], self._states(snaps.get(step, {}))) for step in frames]
-                o.setdefault("pvd", {})
-                vtk_output.write_series(base, idx, m.particles, ids, series, o.get("entities"), o.get("modes"),
-                                        o["pvd"])
-            if "DUMP" not in o.get("formats", ["DUMP"]):
+        snaps = data.get("particle", {})
+        series = []
+        for step in frames:
+            series.append((self._frame_time[step], {
+                "states": self._states(snaps.get(step, {})),
+                "springs": {int(k): v for k, v in data.get("spring", {}).get(step, {}).items()},
+                "torsions": {int(k): v for k, v in data.get("torsion", {}).get(step, {}).items()},
+                "joints": data.get("joint", {}).get(step),
+                "contacts": output_files.contacts(data.get("contact", {}).get(step, []))}))
+        if not hasattr(self, "_pvd"):
+            self._pvd = {}
+        output_files.write_vtk(base, m, series, self._pvd)
+        for idx, ids, o in output_files.groups(m):
+            if "DUMP" not in o["formats"]:
                 continue
             with open(f"{base}{idx}.dump", "a" if o.get("started") else "w") as f:
                 for step in frames:
@@ -546,8 +548,9 @@ def _read_joints(path):
     return out
 
 
-def _read_dump(path):
-    """{timestep: {first column (id): [other columns]}} of a LAMMPS custom/local dump."""
+def _read_dump(path, keep=None, keyed=True):
+    """{timestep: {first column (id): [other columns]}} of a LAMMPS custom/local dump (keyed=False: {timestep:
+    [rows]}, every column); keep: the timesteps to read (None: all)."""
     out = {}
     if not os.path.exists(path):
         return out
@@ -561,11 +564,9 @@ def _read_dump(path):
             n = int(lines[i + 1])
             i += 2
         elif lines[i].startswith("ITEM: ATOMS") or lines[i].startswith("ITEM: ENTRIES"):
-            rows = {}
-            for l in lines[i + 1:i + 1 + n]:
-                vals = [float(v) for v in l.split()]
-                rows[int(vals[0])] = vals[1:]
-            out[step] = rows
+            if keep is None or step in keep:
+                rows = [[float(v) for v in l.split()] for l in lines[i + 1:i + 1 + n]]
+                out[step] = {int(r[0]): r[1:] for r in rows} if keyed else rows
             i += 1 + n
         else:
             i += 1

@@ -1,15 +1,11 @@
 """OUTPUT(format='VTK'): ParaView files of a Parmec run, one frame per output time.
 
-For OUTPUT call k (0: the particles not in any subset, 1, 2, ...: consecutive subsets), as Parmec names them:
-  PREFIXkrb.pvd + PREFIXkrb_N.vtu   rigid-body data: one vertex per particle at its mass centre with NUMBER,
-                                    COLOR, DISPL, ORIENT (9 components, rows of Λ), ORIENT1/2/3 (columns of Λ),
-                                    LINVEL, ANGVEL, FORCE, TORQUE and RADIUS (for glyphs);
-  PREFIXk.pvd + PREFIXk_N.vtu       MESH particles: their boundary faces as triangles at the current
-                                    configuration x + Λ(P − X), with NUMBER and COLOR per triangle and
-                                    DISPL, LINVEL per node.
-Files are VTK XML UnstructuredGrid (ASCII, 17 significant digits) collected with their times in a .pvd,
-which ParaView opens as a time series."""
-import os
+Rigid-body frames (one vertex per particle at its mass centre with NUMBER, COLOR, DISPL, ORIENT (9
+components, rows of Λ), ORIENT1/2/3 (columns of Λ), LINVEL, ANGVEL, FORCE, TORQUE and RADIUS for glyphs) and
+MESH frames (boundary faces as triangles at the current configuration x + Λ(P − X), NUMBER and COLOR per
+triangle, DISPL, LINVEL per node); which files hold them: output_files.py. Files are VTK XML
+UnstructuredGrid (ASCII, 17 significant digits) collected with their times in a .pvd, which ParaView opens
+as a time series."""
 
 _FACES = {
     4: [(1, 3, 2), (1, 2, 4), (2, 3, 4), (3, 1, 4)],
@@ -136,26 +132,3 @@ def mesh_frame(path, particles, ids, states, entities):
     cdata = [d for d in (("NUMBER", 1, number, "Int32"), ("COLOR", 1, color, "Int32")) if d[0] in want]
     write_vtu(path, pts, tris, 5, point_data=pdata, cell_data=cdata)
     return True
-
-
-def write_series(base, idx, particles, ids, frames, entities, modes, previous):
-    """Append frames [(time, states)] of OUTPUT call idx; previous: {pvd path: [(time, file)]} kept across DEM
-    calls so every call rewrites a complete .pvd."""
-    written = []
-    for kind in ("rb", "mesh"):
-        if modes and not ({"RB"} if kind == "rb" else {"MESH"}) & set(modes):
-            continue
-        stem = f"{base}{idx}{'rb' if kind == 'rb' else ''}"
-        pvd = stem + ".pvd"
-        entries = previous.setdefault(pvd, [])
-        for t, states in frames:
-            name = f"{os.path.basename(stem)}_{len(entries)}.vtu"
-            path = os.path.join(os.path.dirname(stem) or ".", name)
-            ok = (rigid_body_frame(path, particles, ids, states, entities) or True) if kind == "rb" else \
-                mesh_frame(path, particles, ids, states, entities)
-            if ok:
-                entries.append((t, name))
-        if entries:
-            write_pvd(pvd, entries)
-            written.append(pvd)
-    return written

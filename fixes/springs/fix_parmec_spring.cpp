@@ -101,7 +101,7 @@ FixParmecSpring::FixParmecSpring(LAMMPS *lmp, int narg, char **arg) :
     reader_(lmp, cmd_, state::DefinitionReader::kTable | state::DefinitionReader::kTseries |
                            state::DefinitionReader::kFile | state::DefinitionReader::kHistory |
                            state::DefinitionReader::kStart,
-            "spring", "table, tseries, spring, file, history, start or eqm")
+            "spring", "table, tseries, spring, file, history, start, eqm or inertia")
 {
   if (narg < 4)
     error->all(FLERR, cmd_ + ": expected definitions (table, tseries, spring, file, start) after the style name");
@@ -119,6 +119,13 @@ FixParmecSpring::FixParmecSpring(LAMMPS *lmp, int narg, char **arg) :
                 [this](const std::vector<std::string> &tok, std::size_t &i, const std::string &where) {
                   if (tok[i] == "eqm") {
                     q8_arm_ = reader_.choice(tok, i, where, {"correct", "parmec"}) == 1;
+                    return true;
+                  }
+                  if (tok[i] == "inertia") {  // CRITICAL with the bodies' inertia tensors (Parmec front end)
+                    if (i + 1 >= tok.size())
+                      error->all(FLERR, cmd_ + ": inertia: expected the name of a d2_NAME 6 per-atom property");
+                    inertia_name_ = tok[i + 1];
+                    i += 2;
                     return true;
                   }
                   return parse_spring(tok, i, where);
@@ -673,14 +680,23 @@ void FixParmecSpring::critical()
 {
   constexpr int kRec = 14;  // tag1 tag2 k_s e dir(3) planar arm1(3) arm2(3)
   const double *rmass = atom->rmass_flag ? atom->rmass : nullptr;
-  const double *radius = atom->radius_flag ? atom->radius : nullptr;
   auto mass_of = [&](int i) { return rmass ? rmass[i] : atom->mass[atom->type[i]]; };
-  auto inertia_of = [&](int i) { return radius ? 0.4 * mass_of(i) * radius[i] * radius[i] : 0.0; };
   auto body = [&](int i) {
     sp::BodyMass b;
     b.mass = mass_of(i);
-    const double J = inertia_of(i), inv = J > 0.0 ? 1.0 / J : 0.0;
-    b.inv_inertia = {inv, 0, 0, 0, inv, 0, 0, 0, inv};
+    const std::array<double, 9> J = critical_inertia(i, b.mass);
+    if (J[1] == 0.0 && J[2] == 0.0 && J[5] == 0.0) {  // principal axes (spheres): 1/J, no cofactor rounding
+      for (int c = 0; c < 3; c++) b.inv_inertia[4 * c] = J[4 * c] > 0.0 ? 1.0 / J[4 * c] : 0.0;
+      return b;
+    }
+    const double det = J[0] * (J[4] * J[8] - J[5] * J[7]) - J[1] * (J[3] * J[8] - J[5] * J[6]) +
+                       J[2] * (J[3] * J[7] - J[4] * J[6]);
+    if (det > 0.0) {
+      const double r = 1.0 / det;
+      b.inv_inertia = {r * (J[4] * J[8] - J[5] * J[7]), r * (J[2] * J[7] - J[1] * J[8]), r * (J[1] * J[5] - J[2] * J[4]),
+                       r * (J[5] * J[6] - J[3] * J[8]), r * (J[0] * J[8] - J[2] * J[6]), r * (J[2] * J[3] - J[0] * J[5]),
+                       r * (J[3] * J[7] - J[4] * J[6]), r * (J[1] * J[6] - J[0] * J[7]), r * (J[0] * J[4] - J[1] * J[3])};
+    }
     return b;
   };
   std::vector<double> mine, mine_rows;  // mine_rows: (table row, h, omega, xi)
@@ -740,8 +756,9 @@ void FixParmecSpring::critical()
   double hp = INFINITY;
   for (auto &kv : particles) {
     const int i = owned[kv.first];
-    const double J = inertia_of(i) > 0.0 ? inertia_of(i) : 1.0;
-    const sp::CriticalEstimate ep = kv.second.estimate(mass_of(i), {J, 0, 0, 0, J, 0, 0, 0, J});
+    std::array<double, 9> J = critical_inertia(i, mass_of(i));
+    if (!(J[0] > 0.0)) J = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // no radius, no inertia property
+    const sp::CriticalEstimate ep = kv.second.estimate(mass_of(i), J);
     hp = std::min(hp, ep.step);
     const double row[4] = {double(defs_.size()) + double(kv.first - 1), ep.step, ep.omega, ep.xi};
     mine_rows.insert(mine_rows.end(), row, row + 4);
@@ -806,6 +823,21 @@ void FixParmecSpring::restart(char *buf)
       error->all(FLERR, cmd_ + ": 'eqm parmec' needs the reference centres, which this (older) restart file "
                                "does not hold");
   });
+}
+
+std::array<double, 9> FixParmecSpring::critical_inertia(int i, double mass) const
+{
+  if (!inertia_name_.empty()) {
+    int flag = 0, cols = 0;
+    const int ij = atom->find_custom(inertia_name_.c_str(), flag, cols);
+    if (ij < 0 || flag != 1 || cols != 6)
+      error->all(FLERR, cmd_ + ": inertia: '" + inertia_name_ + "' is not a per-atom array of 6 doubles (fix "
+                                "property/atom d2_" + inertia_name_ + " 6 ghost yes)");
+    const double *r = atom->darray[ij][i];
+    return {r[0], r[3], r[4], r[3], r[1], r[5], r[4], r[5], r[2]};
+  }
+  const double J = atom->radius_flag ? 0.4 * mass * atom->radius[i] * atom->radius[i] : 0.0;
+  return {J, 0, 0, 0, J, 0, 0, 0, J};
 }
 
 // EQM (spec §12) of spring d along dir (zero: largest point mass) with the sphere inertia 0.4 m r^2

@@ -21,6 +21,7 @@
 #include "SpringTable.h"
 #include "TimeSeries.h"
 
+#include <array>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -143,6 +144,10 @@ class FixParmecSpring : public state::PerAtomStateFix {
   void evaluate(Mode mode) override;
   void history_values(const double *rec, double *out) const override;
   void critical();
+  // CRITICAL's body inertia: the referential tensor of atom i from 'inertia NAME' (d2_NAME: Ixx Iyy Izz Ixy
+  // Ixz Iyz), else the sphere's 0.4 m r^2 (the force kernel's EQM keeps the sphere inertia)
+  std::array<double, 9> critical_inertia(int i, double mass) const;
+  std::string inertia_name_;
   double crit_[2] = {0.0, 0.0};
   std::vector<double> crit_table_;  // 3 per row, see compute_array
   LAMMPS_NS::bigint crit_step_ = -1;

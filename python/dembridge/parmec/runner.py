@@ -86,8 +86,11 @@ class Runner:
         contact = m.contact_active()
         if contact:
             m._no_mesh_contact("DEM")
-            rmax = max(p.radius for p in P if p.kind == "SPHERE") if any(p.kind == "SPHERE" for p in P) else 0.0
-            skin = 0.1 * rmax if rmax > 0 else 1e-3
+            # fix parmec/granular sizes its check by every atom's radius (bodies without contact keep the radius
+            # of their isotropic inertia); the skin by the contact spheres
+            rmax = max(p.radius for p in P)
+            rsph = max((p.radius for p in P if p.contact_sphere), default=0.0)
+            skin = 0.1 * rsph if rsph > 0 else 1e-3
             cutoff = max(cutoff, 2.0 * rmax + 2.0 * skin)
         # with contact the neighbour bins need a box: shrink-wrapped with a minimum extent (m) instead of s
         for c in ["units si", "atom_style bpm/sphere", "atom_modify map array", f"boundary {'m m m' if contact else 's s s'}",
@@ -103,7 +106,7 @@ class Runner:
             # spheres touch by colour (0: no contact shape, MESH/ANALYTICAL); a pair cutoff sizes the neighbour lists
             self.cmd("fix PC all property/atom i_pmcolor ghost yes")
             for i, p in enumerate(P):
-                self.cmd(f"set atom {i + 1} i_pmcolor {p.color if p.kind == 'SPHERE' else 0}")
+                self.cmd(f"set atom {i + 1} i_pmcolor {p.color if p.contact_sphere else 0}")
             self.cmd(f"pair_style zero {_r(max(2.0 * rmax, skin))}")
             self.cmd("pair_coeff * *")
             self.cmd(f"neighbor {_r(skin)} bin")
@@ -318,6 +321,7 @@ class Runner:
 
     # ---------------------------------------------------------------------------------------------
     def run(self, duration, h, files, hist, prefix):
+        """files, hist: the output-file and history intervals as functions of Parmec's time t_n."""
         m = self.model
         if h != self.h:
             self.h = h
@@ -353,13 +357,15 @@ class Runner:
             frames.append(self.lammps_step)  # Parmec writes the initial state too
             self._frame_time[self.lammps_step] = tn
         for k in range(nsteps):
-            if tn >= m.hist_time + hist:
+            # intervals: numbers, or callbacks/TSERIES evaluated at the step's time t_n (as Parmec, every step)
+            dt_hist, dt_files = hist(tn), files(tn)
+            if tn >= m.hist_time + dt_hist:
                 samples.append((self.lammps_step + k + 1, tn))
-                m.hist_time += hist
-            if tn >= m.out_time + files:
+                m.hist_time += dt_hist
+            if tn >= m.out_time + dt_files:
                 frames.append(self.lammps_step + k + 1)
                 self._frame_time[self.lammps_step + k + 1] = tn
-                m.out_time += files
+                m.out_time += dt_files
             tn += h
         if m.step_count == 0:
             self._initial_row()
@@ -427,9 +433,7 @@ class Runner:
         PREFIXk.dump of each output group (output_files.groups), appended over DEM calls, which ParaView
         opens with its LAMMPS dump reader."""
         m = self.model
-        if prefix is not None:
-            m.prefix = prefix
-        base = m.prefix or (os.path.splitext(m.script)[0] if m.script else "parmec")
+        base = m.output_base()
         if self.rank != 0 or not frames:
             return
         snaps = data.get("particle", {})

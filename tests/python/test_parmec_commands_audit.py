@@ -92,3 +92,14 @@ def test_analytical_conversion_of_a_particle(tmp_path):
     assert abs(by[1][2] - math.sqrt(50 / 2.0)) < 1e-12 * 5   # the spring sees mass 2 (not the sphere's 523.6)
     d = read_vtu(read_pvd(str(tmp_path / "conv0sph.pvd"))[-1][1])
     assert [n[0] for n in d["point"]["NUMBER"]] == [0, 1]  # its shape is still drawn
+
+
+def test_moving_obstacles_are_named_in_a_warning(tmp_path):
+    script = tmp_path / "plate.py"
+    script.write_text(PRE + "OBSTACLE([(-5, -5, -1, 5, -5, -1, 5, 5, -1)], 2)\n"
+                            "OBSTACLE([(-5, -5, -2, 5, -5, -2, 5, 5, -2)], 2, point=(0, 0, -2), linear=lambda t: (0, 0, 1))\n"
+                            "GRANULAR(1, 2, 1e5)\nOUTPUT(mode='MESH')\nDEM(0.002, 0.001)\n")
+    with pytest.warns(UserWarning, match=r"moving OBSTACLEs \[1\] are not drawn"):
+        run_script(str(script), [], workdir=str(tmp_path))
+    d = read_vtu(read_pvd(str(tmp_path / "plate0.pvd"))[-1][1])
+    assert len(d["cells"]) == 1 and d["points"][0] == [-5.0, -5.0, -1.0]   # the static one

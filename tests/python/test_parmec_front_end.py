@@ -501,6 +501,7 @@ BAD += [
     ("CRITICAL(perparticle=-1)", "CRITICAL: argument 'perparticle'"),
     ("CRITICAL(perparticle=True)", "CRITICAL: argument 'perparticle'"),
     ("TORSION_SPRING(p, -1, (0, 0, 1), (1, 0, 0), refpnt=(0, 0))", "TORSION_SPRING: argument 'refpnt'"),
+    ("OUTPUT(mode=['RB', 'SL'], format='DUMP')", "OUTPUT: argument 'mode' = ['SL'] needs format 'VTK'"),
 ]
 
 

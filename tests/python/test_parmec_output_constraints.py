@@ -123,6 +123,10 @@ def test_contact_series_of_spheres_stacked_on_an_obstacle(tmp_path):
         assert abs(P["AREA"][n][0] - math.pi * (r * r - a * a)) < 1e-9
     z = [c0["points"][at[0, -1]][2], c0["points"][at[0, 1]][2]]
     assert abs(z[0] - 0.0) < 1e-12 and abs(z[1] - (2.0 - 2 * mg / k - mg / (2 * k))) < 1e-6
+    # the static obstacle is drawn in group 0's MESH file (owner -1, its colour), as Parmec draws obstacles
+    _, mesh = _last(tmp_path, "stack0")
+    assert mesh["cell"]["NUMBER"] == [[-1], [-1]] and mesh["cell"]["COLOR"] == [[9], [9]]
+    assert mesh["points"][:3] == [[-5.0, -5.0, 0.0], [5.0, -5.0, 0.0], [5.0, 5.0, 0.0]]
     # subset b: only the contact involving b; its file 0 counterpart still lists it (a is in no subset)
     _, c1 = _last(tmp_path, "stack1cd")
     assert c1["point"]["PAIR"] == [[0, 1]]

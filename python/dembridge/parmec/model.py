@@ -738,6 +738,9 @@ class Model:
                 if e not in known:
                     fail(cmd, f"argument 'entities': unknown entity {e!r}")
         self._modifiable(cmd)
+        if "DUMP" in fmts and "VTK" not in fmts and modes and set(modes) - {"SPH", "RB"}:
+            fail(cmd, f"argument 'mode' = {sorted(set(modes) - {'SPH', 'RB'})} needs format 'VTK' (format 'DUMP' "
+                      "holds the particles only, as Parmec's LAMMPS-style dump)")
         self.outputs.append({"subset": sub, "formats": list(fmts), "entities": entities, "modes": modes})
 
     def _interval(self, cmd, name, v):

@@ -4,7 +4,8 @@ entities/modes of the last OUTPUT call without a subset (the seed's defaults if 
 .vtu frames named as Parmec names its files:
   PREFIXkrb   'RB'   every particle of the group (vertex at the mass centre)
   PREFIXksph  'SPH'  the SPHERE particles of the group (same arrays as RB, RADIUS for sphere glyphs)
-  PREFIXk     'MESH' boundary triangles of the MESH particles of the group
+  PREFIXk     'MESH' boundary triangles of the MESH particles of the group (group 0: and the static
+                     obstacles; moving obstacles are not drawn, which OUTPUT says in a warning)
   PREFIXksl   'SL'   linear springs attached to a particle of the group (lines point1 -> point2)
   PREFIXkst   'ST'   torsion springs attached to a particle of the group (seed also says 'TS': accepted)
   PREFIXkjt   'JT'   ball joints attached to a particle of the group
@@ -12,6 +13,7 @@ entities/modes of the last OUTPUT call without a subset (the seed's defaults if 
 'attached'/'involving' = part1 or part2 (pair) is in the group, as Parmec selects springs for its files."""
 import math
 import os
+import warnings
 
 from . import vtk_constraints as vc
 from . import vtk_output
@@ -60,7 +62,12 @@ def contacts(rows):
     return out
 
 
-def _frame_writer(mode, model, ids, entities):
+def static_obstacles(model):
+    """The obstacles that do not move (drawn in group 0's MESH files, as Parmec draws its obstacles)."""
+    return [ob for ob in model.obstacles if ob["point"] is None or (ob["linear"] is None and ob["angular"] is None)]
+
+
+def _frame_writer(mode, model, ids, entities, idx):
     """(writer(path, frame), has_content) for one group and mode; frame = {states, springs, torsions, joints,
     contacts} of one output time."""
     P = model.particles
@@ -69,8 +76,13 @@ def _frame_writer(mode, model, ids, entities):
         want = [e for e in (entities or vtk_output.RB_ENTITIES)]
         return (lambda path, fr: vtk_output.rigid_body_frame(path, P, sel, fr["states"], want)), bool(sel)
     if mode == "MESH":
-        return (lambda path, fr: vtk_output.mesh_frame(path, P, ids, fr["states"], entities)), \
-            any(P[i].kind == "MESH" for i in ids)
+        obs = static_obstacles(model) if idx == 0 else []
+        moving = [k for k, ob in enumerate(model.obstacles) if all(ob is not o for o in obs)]
+        if idx == 0 and moving:
+            warnings.warn(f"OUTPUT: the moving OBSTACLEs {moving} are not drawn in the MESH files (their pose lives "
+                          "in fix parmec/granular)", stacklevel=2)
+        return (lambda path, fr: vtk_output.mesh_frame(path, P, ids, fr["states"], entities, obs)), \
+            any(P[i].kind == "MESH" for i in ids) or bool(obs)
     if mode == "SL":
         ks = vc.attached([(s["part1"], s["part2"]) for s in model.springs], ids)
         want = entities or vc.SL_ENTITIES
@@ -98,7 +110,7 @@ def write_vtk(base, model, frames, entries):
         if "VTK" not in o["formats"]:
             continue
         for mode in (o["modes"] or ALL_MODES):
-            writer, has = _frame_writer(mode, model, ids, o["entities"])
+            writer, has = _frame_writer(mode, model, ids, o["entities"], idx)
             if not has:
                 continue
             stem = f"{base}{idx}{SUFFIX[mode]}"

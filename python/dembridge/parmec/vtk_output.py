@@ -104,10 +104,19 @@ def rigid_body_frame(path, particles, ids, states, entities):
     write_vtu(path, pts, [[k] for k in range(len(ids))], 1, point_data=data)
 
 
-def mesh_frame(path, particles, ids, states, entities):
-    """One frame of the MESH particles among ids: boundary triangles at x + Λ(P − X)."""
+def mesh_frame(path, particles, ids, states, entities, obstacles=()):
+    """One frame of the MESH particles among ids: boundary triangles at x + Λ(P − X); then the triangles of
+    the static obstacles given (NUMBER -1 as Parmec's triangle owner, zero DISPL and LINVEL)."""
     pts, tris, number, color, displ, linvel = [], [], [], [], [], []
     want = set(entities or RB_ENTITIES)
+    for ob in obstacles:
+        for t, c in zip(ob["triangles"], ob["colors"]):
+            tris.append([len(pts), len(pts) + 1, len(pts) + 2])
+            pts += [list(t[0:3]), list(t[3:6]), list(t[6:9])]
+            displ += [[0.0] * 3] * 3
+            linvel += [[0.0] * 3] * 3
+            number.append([-1])
+            color.append([c])
     for i in ids:
         p = particles[i]
         if p.kind != "MESH":

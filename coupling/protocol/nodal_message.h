@@ -84,6 +84,9 @@ Kinematics decode_kinematics_message(const NodalConfig& config, const std::uint8
 // MalformedMessageError on non-finite loads.
 std::vector<std::uint8_t> encode_loads(const NodalConfig& config, Command command,
                                        const Loads& loads);
+// The same into out (cleared first, its capacity kept: the per-message path of the session).
+void encode_loads_into(const NodalConfig& config, Command command, const Loads& loads,
+                       std::vector<std::uint8_t>& out);
 
 // Orientation conversions used by Kinematics::rotation_matrix (spec §4.3).
 Matrix3 matrix_from_wire_column_major(const double* nine);

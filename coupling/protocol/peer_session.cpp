@@ -7,6 +7,14 @@
 
 namespace dembridge::mbdyn {
 
+namespace {
+// Kinematics (2, 6) carry a payload; 5 and invalid codes do not.
+bool carries_kinematics(std::uint8_t cmd) {
+  return cmd == static_cast<std::uint8_t>(Command::RegularData) ||
+         cmd == static_cast<std::uint8_t>(Command::RegularDataAndGotoNextStep);
+}
+}  // namespace
+
 std::string coupling_name(Coupling c) {
   switch (c) {
     case Coupling::Loose: return "loose";
@@ -51,6 +59,7 @@ PeerSession::PeerSession(PeerSession&& o) noexcept
       state_(o.state_),
       kinematics_(std::move(o.kinematics_)),
       payload_(std::move(o.payload_)),
+      payload_what_(std::move(o.payload_what_)),
       messages_received_(o.messages_received_),
       step_(o.step_),
       iteration_(o.iteration_),
@@ -117,11 +126,14 @@ Received PeerSession::receive() {
 }
 
 Received PeerSession::receive_message() {
-  std::uint8_t cmd = 0;
+  std::uint8_t cmd = 0;  // 0 is no command: still 0 after a throw means nothing arrived
   try {
     static const std::string what = "a command byte (2, 5 or 6)";  // no string built per message
-    transport_.read_exact(&cmd, 1, options_.io_timeout_s, what);
+    // Command and payload in as few recv calls as possible (one when they arrive together).
+    transport_.read_message(cmd, payload_.data(), payload_.size(), carries_kinematics, options_.io_timeout_s, what,
+                            payload_what_);
   } catch (const PeerClosedError& e) {
+    if (cmd != 0) throw;
     throw PeerClosedError(std::string(e.what()) +
                           "; MBDyn ended without sending 5 (end of simulation): it crashed or was killed");
   }
@@ -140,7 +152,6 @@ Received PeerSession::receive_message() {
         " coupling expects " + (tight ? "2" : "6") +
         ": the `coupling` of the MBDyn element and of this peer disagree");
 
-  transport_.read_exact(payload_.data(), payload_.size(), options_.io_timeout_s, payload_what_);
   decode_kinematics_into(options_.nodal, static_cast<Command>(cmd), payload_.data(), payload_.size(), kinematics_);
 
   Received r;
@@ -220,7 +231,8 @@ void PeerSession::send_loads(const Loads& loads, bool converged) {
     to_send = &echoed;
   }
   const Command cmd = converged ? Command::RegularDataAndGotoNextStep : Command::RegularData;
-  write_answer(encode_loads(c, cmd, *to_send), converged);
+  encode_loads_into(c, cmd, *to_send, answer_);  // reused buffer: no allocation per message
+  write_answer(answer_, converged);
 }
 
 void PeerSession::send_converged_keep_loads() {

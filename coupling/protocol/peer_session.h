@@ -95,7 +95,8 @@ class PeerSession {
   State state_ = State::AwaitingKinematics;
   Kinematics kinematics_;
   std::vector<std::uint8_t> payload_;
-  std::string payload_what_;  // "kinematics payload of N bytes (...)", for read errors
+  std::string payload_what_;
+  std::vector<std::uint8_t> answer_;  // the last loads message sent, reused  // "kinematics payload of N bytes (...)", for read errors
   std::uint64_t messages_received_ = 0;
   std::uint64_t step_ = 0;
   std::uint32_t iteration_ = 0;

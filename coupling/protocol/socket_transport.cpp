@@ -7,6 +7,7 @@
 #include <netinet/tcp.h>
 #include <poll.h>
 #include <sys/socket.h>
+#include <sys/uio.h>
 #include <sys/un.h>
 #include <unistd.h>
 
@@ -183,40 +184,89 @@ SocketTransport SocketTransport::connect(const Endpoint& endpoint, double timeou
   }
 }
 
+void SocketTransport::quick_ack() {
+  // spec P3: the flag is not sticky; without it MBDyn's split writes stall ~40 ms on Nagle.
+  if (!tcp_) return;
+  int one = 1;
+  setsockopt(fd_, IPPROTO_TCP, TCP_QUICKACK, &one, sizeof one);
+}
+
+void SocketTransport::recv_failed(long rc, int err, const Deadline& deadline, double timeout_s,
+                                  const std::string& what, std::size_t got, std::size_t n) {
+  if (rc == 0)
+    throw PeerClosedError("MBDyn closed the connection (" + description_ + ") while " + what +
+                          " was expected: received " + std::to_string(got) + " of " +
+                          std::to_string(n) + " bytes");
+  if (err == EINTR) return;
+  if (err == EAGAIN || err == EWOULDBLOCK) {
+    if (!wait_for(fd_, POLLIN, deadline))
+      throw TimeoutError("timed out after " + seconds_text(timeout_s) + " waiting for " + what +
+                         " from MBDyn (" + description_ + "): received " + std::to_string(got) +
+                         " of " + std::to_string(n) + " bytes");
+    return;
+  }
+  if (err == ECONNRESET)
+    throw PeerClosedError("MBDyn reset the connection (" + description_ + ") while " + what +
+                          " was expected: received " + std::to_string(got) + " of " +
+                          std::to_string(n) + " bytes");
+  throw SystemError("recv() of " + what + " from " + description_ + ": " + errno_text(err));
+}
+
 void SocketTransport::read_exact(void* buffer, std::size_t n, double timeout_s, const std::string& what) {
   if (fd_ < 0) throw PeerClosedError("reading " + what + ": the connection to MBDyn is closed");
   const Deadline deadline(timeout_s);
   auto* p = static_cast<std::uint8_t*>(buffer);
   std::size_t got = 0;
   while (got < n) {
-    if (tcp_) {
-      // spec P3: the flag is not sticky; without it MBDyn's split writes stall ~40 ms on Nagle.
-      int one = 1;
-      setsockopt(fd_, IPPROTO_TCP, TCP_QUICKACK, &one, sizeof one);
-    }
+    quick_ack();
     const ssize_t rc = ::recv(fd_, p + got, n - got, 0);
-    if (rc > 0) {
+    if (rc > 0)
       got += static_cast<std::size_t>(rc);
-      continue;
+    else
+      recv_failed(rc, errno, deadline, timeout_s, what, got, n);
+  }
+}
+
+void SocketTransport::read_message(std::uint8_t& cmd, void* payload, std::size_t n,
+                                   bool (*payload_follows)(std::uint8_t), double timeout_s,
+                                   const std::string& what_command, const std::string& what_payload) {
+  if (fd_ < 0) throw PeerClosedError("reading " + what_command + ": the connection to MBDyn is closed");
+  const Deadline deadline(timeout_s);
+  auto* p = static_cast<std::uint8_t*>(payload);
+  std::size_t got = 0;  // payload bytes, once the command byte is in
+  bool have_cmd = false;
+  while (!have_cmd || got < n) {
+    quick_ack();
+    if (!wait_for(fd_, POLLIN, deadline))
+      throw TimeoutError("timed out after " + seconds_text(timeout_s) + " waiting for " +
+                         (have_cmd ? what_payload : what_command) + " from MBDyn (" + description_ +
+                         "): received " + std::to_string(have_cmd ? got : 0) + " of " +
+                         std::to_string(have_cmd ? n : 1) + " bytes");
+    ssize_t rc;
+    if (!have_cmd) {
+      iovec v[2] = {{&cmd, 1}, {p, n}};
+      msghdr m{};
+      m.msg_iov = v;
+      m.msg_iovlen = 2;
+      rc = ::recvmsg(fd_, &m, 0);
+      if (rc > 0) {
+        have_cmd = true;
+        got = static_cast<std::size_t>(rc) - 1;
+        if (!payload_follows(cmd)) return;
+        continue;
+      }
+    } else {
+      rc = ::recv(fd_, p + got, n - got, 0);
+      if (rc > 0) {
+        got += static_cast<std::size_t>(rc);
+        continue;
+      }
     }
-    if (rc == 0)
-      throw PeerClosedError("MBDyn closed the connection (" + description_ + ") while " + what +
-                            " was expected: received " + std::to_string(got) + " of " +
-                            std::to_string(n) + " bytes");
     const int err = errno;
-    if (err == EINTR) continue;
-    if (err == EAGAIN || err == EWOULDBLOCK) {
-      if (!wait_for(fd_, POLLIN, deadline))
-        throw TimeoutError("timed out after " + seconds_text(timeout_s) + " waiting for " + what +
-                           " from MBDyn (" + description_ + "): received " + std::to_string(got) +
-                           " of " + std::to_string(n) + " bytes");
-      continue;
-    }
-    if (err == ECONNRESET)
-      throw PeerClosedError("MBDyn reset the connection (" + description_ + ") while " + what +
-                            " was expected: received " + std::to_string(got) + " of " +
-                            std::to_string(n) + " bytes");
-    throw SystemError("recv() of " + what + " from " + description_ + ": " + errno_text(err));
+    if (have_cmd)
+      recv_failed(rc, err, deadline, timeout_s, what_payload, got, n);
+    else
+      recv_failed(rc, err, deadline, timeout_s, what_command, 0, 1);
   }
 }
 

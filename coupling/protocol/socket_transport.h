@@ -9,6 +9,8 @@
 
 namespace dembridge::mbdyn {
 
+class Deadline;
+
 // Where the MBDyn socket lives: `path, "<file>"` or `port, <n> [, host, "<h>"]`.
 struct Endpoint {
   enum class Kind { Unix, Tcp };
@@ -39,6 +41,14 @@ class SocketTransport {
   // Reads exactly n bytes. what names the expected data in error messages
   // ("kinematics payload"); throws TimeoutError or PeerClosedError stating bytes received.
   void read_exact(void* buffer, std::size_t n, double timeout_s, const std::string& what);
+  // Reads one message: its command byte into cmd and, when payload_follows(cmd), exactly n more
+  // bytes into payload, with as few recv calls as the data allows (both in one recvmsg when they
+  // have arrived together). Waits in poll() before each recv, since MBDyn's next message usually
+  // is not there yet. A command without payload ends the read: bytes after it are dropped (MBDyn
+  // sends nothing after 5, and any other such byte is a protocol error). Errors as read_exact,
+  // naming what_command or what_payload.
+  void read_message(std::uint8_t& cmd, void* payload, std::size_t n, bool (*payload_follows)(std::uint8_t),
+                    double timeout_s, const std::string& what_command, const std::string& what_payload);
   // Writes n bytes with a single send() when the kernel takes them (always for small messages);
   // loops only on a partial send. Throws TimeoutError or PeerClosedError.
   void write_all(const void* buffer, std::size_t n, double timeout_s, const std::string& what);
@@ -52,6 +62,11 @@ class SocketTransport {
   const std::string& description() const { return description_; }
 
  private:
+  // After a recv that returned rc <= 0 (errno err) with got of n bytes of what read: returns to
+  // retry (EINTR, or data announced by poll within the deadline); throws otherwise.
+  void recv_failed(long rc, int err, const Deadline& deadline, double timeout_s, const std::string& what,
+                   std::size_t got, std::size_t n);
+  void quick_ack();
   int fd_ = -1;
   bool tcp_ = false;
   std::string description_;

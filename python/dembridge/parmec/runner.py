@@ -385,10 +385,13 @@ class Runner:
                 if not wanted[style]:
                     continue
                 out = self.path(f"hist_{name}_{self.lammps_step}.dump")
+                # each dump at exactly the sampled steps: its own file-style variable of the steps, read by next().
+                # Two steps past the run end: LAMMPS deletes a file variable that reads its end, which shifts the
+                # other variables' indices the dumps hold
+                f = self.write(f"steps_{name}.txt", "\n".join(map(str, steps + [final, final + 1])) + "\n")
+                self.cmd(f"variable f{name} file {f}")
+                self.cmd(f"variable s{name} equal next(f{name})")
                 if style == "particle":
-                    f = self.write(f"steps_{name}.txt", "\n".join(map(str, steps + [final])) + "\n")
-                    self.cmd(f"variable f{name} file {f}")
-                    self.cmd(f"variable s{name} equal next(f{name})")
                     self.cmd("group pmH id " + " ".join(str(i + 1) for i in groups))
                     cols = "id x y z vx vy vz omegax omegay omegaz fx fy fz tqx tqy tqz " + \
                         " ".join(f"f_R[{k}]" for k in range(1, 10))
@@ -396,10 +399,8 @@ class Runner:
                     self.cmd(f"dump_modify D{name} sort id")
                 else:
                     ncol, fid = {"spring": (7, "S"), "torsion": (16, "T"), "contact": (17, "G")}[style]
-                    # local dumps every step (a variable 'every' is refused for them), read at the sampled steps
                     self.cmd(f"dump D{name} all local 1 {out} " + " ".join(f"f_{fid}[{c}]" for c in range(1, ncol + 1)))
-                if style == "particle":
-                    self.cmd(f"dump_modify D{name} every v_s{name}")
+                self.cmd(f"dump_modify D{name} every v_s{name}")
                 self.cmd(f"dump_modify D{name} format float %.17g")
                 dumps.append((name, style, out))
         t0 = time.time()
@@ -407,9 +408,8 @@ class Runner:
         elapsed = time.time() - t0
         for name, style, _ in dumps:
             self.cmd(f"undump D{name}")
-            if style == "particle":
-                self.cmd(f"variable f{name} delete")
-                self.cmd(f"variable s{name} delete")
+            self.cmd(f"variable f{name} delete")
+            self.cmd(f"variable s{name} delete")
         if groups and steps:
             self.cmd("group pmH delete")
         self.comm.Barrier()  # rank 0 closed the dumps: every rank reads them

@@ -23,7 +23,7 @@ double load_backbone(const SpringLaw& law, SpringState& st, double ds) {
   return r.value;
 }
 
-bool beyond_limits(const SpringState& st, double f) { return f < st.yield_comp || f > st.yield_tens; }
+}  // namespace
 
 double yielded_step(const SpringLaw& law, SpringState& st, double stroke) {
   const double ds = stroke - st.stroke;
@@ -57,27 +57,17 @@ double yielded_step(const SpringLaw& law, SpringState& st, double stroke) {
   return f;
 }
 
-}  // namespace
-
-double elastic_step(const SpringLaw& law, SpringState& st, double stroke, double offset) {
-  if (law.general() && st.yielded) return yielded_step(law, st, stroke);
-  st.stroke = stroke;
-  const auto r = law.spring->lookup(stroke - offset);
-  st.tangent_stiffness = r.slope;
-  if (law.general() && beyond_limits(st, r.value)) {
-    // first yield: this step still returns the backbone value; sc/st start from s (without offset)
-    st.yielded = true;
-    if (r.value < 0.0) {
-      st.stroke_comp = stroke;
-      st.stroke_tens = 0.0;
-      st.yield_tens = 0.0;
-    } else {
-      st.stroke_comp = 0.0;
-      st.stroke_tens = stroke;
-      st.yield_comp = 0.0;
-    }
+void first_yield(SpringState& st, double stroke, double f) {
+  st.yielded = true;
+  if (f < 0.0) {
+    st.stroke_comp = stroke;
+    st.stroke_tens = 0.0;
+    st.yield_tens = 0.0;
+  } else {
+    st.stroke_comp = 0.0;
+    st.stroke_tens = stroke;
+    st.yield_comp = 0.0;
   }
-  return r.value;
 }
 
 double unspring_unload_step(const SpringTable& curve, SpringState& st, double stroke) {

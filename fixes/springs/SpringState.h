@@ -34,6 +34,7 @@ struct SpringState {
   // Inline: the spring fix packs and unpacks every spring every step.
   void pack(double* buf) const;
   void unpack(const double* buf);
+  static SpringState unpacked(const double* buf);  // built from buf directly (no default fill first)
 };
 
 // Every field is stored as a double; ints and flags are exact in a double, so pack/unpack is lossless.
@@ -56,22 +57,12 @@ inline void SpringState::pack(double* b) const {
   b[19] = 0.0;  // reserved (keeps the record size stable for later fields)
 }
 
-inline void SpringState::unpack(const double* b) {
-  stroke = b[0];
-  stroke_comp = b[1];
-  stroke_tens = b[2];
-  yield_comp = b[3];
-  yield_tens = b[4];
-  force_elastic = b[5];
-  tangent_stiffness = b[6];
-  for (int i = 0; i < 3; ++i) friction_disp[i] = b[7 + i];
-  for (int i = 0; i < 3; ++i) direction[i] = b[10 + i];
-  length = b[13];
-  force_total = b[14];
-  friction_force = b[15];
-  yielded = b[16] != 0.0;
-  unloading = b[17] != 0.0;
-  code = static_cast<int>(b[18]);
+inline SpringState SpringState::unpacked(const double* b) {
+  return {b[0],  b[1],  b[2],  b[3],  b[4],         b[5],         b[6],
+          {b[7], b[8], b[9]},        {b[10], b[11], b[12]},      b[13],
+          b[14], b[15], b[16] != 0.0, b[17] != 0.0, static_cast<int>(b[18])};
 }
+
+inline void SpringState::unpack(const double* b) { *this = unpacked(b); }
 
 }  // namespace dembridge::springs

@@ -385,12 +385,8 @@ void FixParmecSpring::evaluate(Mode mode)
 {
   const int nlocal = atom->nlocal;
   reset_sums();
-
-  // Record r of the evaluation order (atoms ascending, their records in order) = output row r.
-  first_.resize(nlocal + 1);
-  first_[0] = 0;
-  for (int i = 0; i < nlocal; i++) first_[i + 1] = first_[i] + records_.count(i);
-  const int total = first_[nlocal];
+  if (refresh_plan()) incidence_current_ = false;
+  const int total = first_[nlocal];  // evaluation index r = output row r (atoms ascending, their records in order)
   local_rows(total);
   if (static_cast<int>(results_.size()) < total) results_.resize(total);
 
@@ -404,27 +400,31 @@ void FixParmecSpring::evaluate(Mode mode)
   ctx.mass = atom->mass;
   ctx.type = atom->type;
   ctx.radius = atom->radius_flag ? atom->radius : nullptr;
+  ctx.tag = atom->tag;
+  ctx.nall = nlocal + atom->nghost;
+  ctx.periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
 
   // Phase 1, threaded: every spring from its own record and the atoms' (read-only) data; it writes its
-  // record, its output row and its result only, so the outcome does not depend on the thread count.
+  // record, its output row, its plan item and its result only, so the outcome does not depend on the
+  // thread count. flags: kMoved (a part2 index changed), kFailed.
   const int nthreads = std::max(1, comm->nthreads);
+  int flags = 0;
 #if defined(_OPENMP)
-#pragma omp parallel num_threads(nthreads) if (nthreads > 1 && nlocal > 1)
+#pragma omp parallel num_threads(nthreads) if (nthreads > 1 && nlocal > 1) reduction(| : flags)
   {
 #pragma omp single nowait
     threads_used_ = std::max(threads_used_, omp_get_num_threads());
 #pragma omp for schedule(static)
-    for (int i = 0; i < nlocal; i++)
-      for (int s = 0, r = first_[i]; r < first_[i + 1]; s++, r++) evaluate_spring(ctx, i, s, r);
+    for (int r = 0; r < total; r++) flags |= evaluate_spring(ctx, r);
   }
 #else
-  for (int i = 0; i < nlocal; i++)
-    for (int s = 0, r = first_[i]; r < first_[i + 1]; s++, r++) evaluate_spring(ctx, i, s, r);
+  for (int r = 0; r < total; r++) flags |= evaluate_spring(ctx, r);
 #endif
 
   // Phase 2, serial: failures in spring order, then the contributions.
-  for (int r = 0; r < total; r++)
-    if (results_[r].failure != Failure::None) report_failure(results_[r]);
+  if (flags & kFailed)
+    for (int r = 0; r < total; r++)
+      if (results_[r].failure != Failure::None) report_failure(results_[r]);
   double **f = atom->f;
   double **torque = atom->torque_flag ? atom->torque : nullptr;
   auto add_to_atom = [&](int i, const double *sum) {
@@ -451,17 +451,24 @@ void FixParmecSpring::evaluate(Mode mode)
   // Ordered: contributions to ghosts travel as entries to their owners; local atoms sum theirs straight
   // from the results, in spring order (incidence lists rebuilt only when the atoms of a spring change),
   // merged with the entries received, so the sums equal those of storing and sorting every entry.
-  inc_key_.resize(total);
-  inc_atom1_.resize(total);
-  inc_atom2_.resize(total);
-  for (int r = 0; r < total; r++) {
-    const SpringResult &res = results_[r];
-    inc_key_[r] = res.key;
-    inc_atom1_[r] = res.apply ? res.i : -1;
-    inc_atom2_[r] = (res.apply && res.k >= 0 && res.k < nlocal) ? res.k : -1;
-    if (res.apply && res.k >= nlocal) contribute(res.k, res.key, res.ft2, -1.0);
+  if (!incidence_current_ || (flags & kMoved)) {
+    inc_key_.resize(total);
+    inc_atom1_.resize(total);
+    inc_atom2_.resize(total);
+    ghost_r_.clear();
+    bool all = true;
+    for (int r = 0; r < total; r++) {
+      const SpringResult &res = results_[r];
+      inc_key_[r] = res.key;
+      inc_atom1_[r] = res.apply ? res.i : -1;
+      inc_atom2_[r] = (res.apply && res.k >= 0 && res.k < nlocal) ? res.k : -1;
+      if (res.apply && res.k >= nlocal) ghost_r_.push_back(r);
+      all = all && res.apply;
+    }
+    incidence_.update(nlocal, total, inc_key_.data(), inc_atom1_.data(), inc_atom2_.data());
+    incidence_current_ = all;  // otherwise rebuilt next time (the springs applied may change)
   }
-  incidence_.update(nlocal, total, inc_key_.data(), inc_atom1_.data(), inc_atom2_.data());
+  for (const int r : ghost_r_) contribute(results_[r].k, results_[r].key, results_[r].ft2, -1.0);
   collect_sums();
 
 #if defined(_OPENMP)
@@ -491,21 +498,44 @@ void FixParmecSpring::evaluate(Mode mode)
   }
 }
 
-// One spring (record s of local atom i, evaluation order r). Thread-safe: reads atoms and definitions,
-// writes only record s, output row r and results_[r]; failures are recorded, reported by evaluate().
-void FixParmecSpring::evaluate_spring(const EvalContext &ctx, int i, int s, int r)
+// The evaluation plan: evaluation index r -> (record, definition, atom) in the order of the atoms and
+// their records; part2 indices are kept from the last evaluation. Rebuilt only when records moved or
+// appeared (exchange, sort, restart, new states) or the atom counts changed; returns whether it was.
+bool FixParmecSpring::refresh_plan()
+{
+  const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
+  if (plan_generation_ == records_.generation() && plan_nlocal_ == nlocal && plan_nall_ == nall) return false;
+  first_.resize(nlocal + 1);
+  first_[0] = 0;
+  for (int i = 0; i < nlocal; i++) first_[i + 1] = first_[i] + records_.count(i);
+  plan_.resize(first_[nlocal]);
+  for (int i = 0; i < nlocal; i++)
+    for (int s = 0, r = first_[i]; r < first_[i + 1]; s++, r++)
+      plan_[r] = {records_.record(i, s), &defs_[records_.key(i, s)], i, -1};
+  plan_generation_ = records_.generation();
+  plan_nlocal_ = nlocal;
+  plan_nall_ = nall;
+  return true;
+}
+
+// One spring (evaluation index r of the plan). Thread-safe: reads atoms and definitions, writes only its
+// record, output row r, plan_[r] and results_[r]; failures are recorded, reported by evaluate().
+int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
 {
   const sp::Vec3 zero3{0, 0, 0};
   double **x = atom->x, **v = atom->v;
-  double *slot = records_.record(i, s);
-  const int idx = records_.key(i, s);
-  const SpringDef &d = defs_[idx];
+  PlanItem &item = plan_[r];
+  const int i = item.i;
+  double *slot = item.slot;
+  const SpringDef &d = *item.def;
+  const int idx = static_cast<int>(item.def - defs_.data());
   SpringResult &res = results_[r];
   res.i = i;
   res.k = -1;
   res.key = idx;
   res.apply = false;
   res.failure = Failure::None;
+  int flags = 0;
 
   // current points (spec §2.2)
   sp::Vec3 xj;
@@ -520,16 +550,22 @@ void FixParmecSpring::evaluate_spring(const EvalContext &ctx, int i, int s, int 
   int k = -1;
   sp::Vec3 b = zero3, q, normal = d.nref;
   if (d.tag2 >= 0) {
-    k = second_atom_or_missing(idx, i, true);
+    // part2 where it was last time unless its tag moved (ghosts rebuilt) or images may change (periodic)
+    k = item.k;
+    if (ctx.periodic || k < 0 || k >= ctx.nall || ctx.tag[k] != d.tag2) {
+      k = second_atom_or_missing(idx, i, true);
+      if (k != item.k) flags |= kMoved;
+      item.k = k;
+    }
     if (k < 0) {
       res.failure = Failure::Part2Missing;
-      return;
+      return flags | kFailed;
     }
     const double dist = sp::norm(vec(x[k]) - vec(x[i]));
     if (dist > cutghost_) {
       res.failure = Failure::TooLong;
       res.value = dist;
-      return;
+      return flags | kFailed;
     }
     const bool plane = d.mode == sp::DirectionMode::Plane;
     if (!zero(d.arm2) || plane) {
@@ -542,8 +578,7 @@ void FixParmecSpring::evaluate_spring(const EvalContext &ctx, int i, int s, int 
     q = d.arm2;
   }
 
-  sp::SpringState state;
-  state.unpack(slot + 1);
+  sp::SpringState state = sp::SpringState::unpacked(slot + 1);
   sp::Vec3 F = zero3;
   bool apply = true;
   double eqm = -1.0;
@@ -577,7 +612,7 @@ void FixParmecSpring::evaluate_spring(const EvalContext &ctx, int i, int s, int 
       F = f.on_part1;
     } catch (std::exception &e) {
       record_failure(res, e.what());
-      return;
+      return flags | kFailed;
     }
     if (mode == Mode::Commit) {
       state.pack(slot + 1);
@@ -610,10 +645,11 @@ void FixParmecSpring::evaluate_spring(const EvalContext &ctx, int i, int s, int 
       eqm = spring_eqm(ctx, d, i, k, d.mode == sp::DirectionMode::Constant ? d.d : state.direction);
     } catch (std::exception &e) {
       record_failure(res, e.what());
-      return;
+      return flags | kFailed;
     }
   }
   out[7] = eqm;
+  return flags;
 }
 
 void FixParmecSpring::record_failure(SpringResult &res, const char *what)
@@ -842,7 +878,8 @@ std::array<double, 9> FixParmecSpring::critical_inertia(int i, double mass) cons
 
 // EQM (spec §12) of spring d along dir (zero: largest point mass) with the sphere inertia 0.4 m r^2
 // of its atoms i (part1) and k (part2, or -1). q8_arm_: Parmec's spring-force arm 2X - P (quirk Q8).
-double FixParmecSpring::spring_eqm(const EvalContext &c, const SpringDef &d, int i, int k, const sp::Vec3 &dir) const
+// Inline: the isotropic branch runs for every spring every step; the general one is out of line.
+inline double FixParmecSpring::spring_eqm(const EvalContext &c, const SpringDef &d, int i, int k, const sp::Vec3 &dir) const
 {
   if (!c.rmass && !c.mass) return NAN;  // no masses: EQM undefined (a ratio dashpot is an ERROR in init)
   auto mass_of = [&](int j) { return c.rmass ? c.rmass[j] : c.mass[c.type[j]]; };
@@ -866,6 +903,14 @@ double FixParmecSpring::spring_eqm(const EvalContext &c, const SpringDef &d, int
     if (!(lambda > 0.0)) throw std::invalid_argument("EQM: the inverse mass matrix is not positive along the direction");
     return 1.0 / lambda;
   }
+  return spring_eqm_general(c, d, i, k, dir);
+}
+
+// EQM with the full 3x3 inverse inertia (zero direction: largest point mass; 'eqm parmec': Q8 arm).
+double FixParmecSpring::spring_eqm_general(const EvalContext &c, const SpringDef &d, int i, int k,
+                                           const sp::Vec3 &dir) const
+{
+  auto mass_of = [&](int j) { return c.rmass ? c.rmass[j] : c.mass[c.type[j]]; };
   auto body = [&](int j, const sp::Vec3 &X) {
     sp::BodyMass b;
     b.mass = mass_of(j);

@@ -112,6 +112,9 @@ class FixParmecSpring : public state::PerAtomStateFix {
     double **omega = nullptr, **quat = nullptr;
     const double *rmass = nullptr, *mass = nullptr, *radius = nullptr;
     const int *type = nullptr;
+    const LAMMPS_NS::tagint *tag = nullptr;
+    int nall = 0;           // local + ghost atoms
+    bool periodic = false;  // part2's closest image looked up every step
   };
   enum class Failure { None, Part2Missing, TooLong, Kernel };
   // What one spring gives its atoms (force, torque per side), written by the (threaded) evaluation and
@@ -123,16 +126,33 @@ class FixParmecSpring : public state::PerAtomStateFix {
     bool apply = false;
     Failure failure = Failure::None;
   };
+  // What every evaluation index r reads before its spring's arithmetic (record, definition, atoms), kept
+  // from step to step and rebuilt only when records move or atoms are added/removed (refresh_plan).
+  struct PlanItem {
+    double *slot = nullptr;
+    const SpringDef *def = nullptr;
+    int i = 0;   // local atom holding the record (part1)
+    int k = -1;  // part2's local/ghost index found last time (checked by tag every step), -1: none yet
+  };
+  std::vector<PlanItem> plan_;
+  unsigned long plan_generation_ = ~0ul;
+  int plan_nlocal_ = -1, plan_nall_ = -1;
+  bool incidence_current_ = false;  // incidence_ and ghost_r_ match plan_ (all springs applied)
+  std::vector<int> ghost_r_;        // evaluation indices whose part2 is a ghost atom
+  bool refresh_plan();
   std::vector<int> first_;             // first evaluation index of each local atom's records
   std::vector<SpringResult> results_;  // per evaluation index, reused from step to step
   std::unordered_map<int, std::string> failure_text_;  // kernel messages by spring index
   std::vector<int> inc_key_, inc_atom1_, inc_atom2_;    // per evaluation index: key, local atoms touched
   state::LocalIncidence incidence_;
   int threads_used_ = 0;  // most OpenMP threads of the spring loop in this run
-  void evaluate_spring(const EvalContext &ctx, int i, int s, int r);
+  // Returns kMoved if part2's index differs from the plan's (the plan is updated), kFailed on a failure.
+  enum : int { kMoved = 1, kFailed = 2 };
+  int evaluate_spring(const EvalContext &ctx, int r);
   void record_failure(SpringResult &res, const char *what);
   [[noreturn]] void report_failure(const SpringResult &res);
   double spring_eqm(const EvalContext &c, const SpringDef &d, int i, int k, const springs::Vec3 &dir) const;
+  double spring_eqm_general(const EvalContext &c, const SpringDef &d, int i, int k, const springs::Vec3 &dir) const;
 
 
   // parsing

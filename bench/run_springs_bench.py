@@ -89,8 +89,8 @@ def write_springs(path, kind, nx, ny, nz):
                                 f.write(f"spring {n} {a} centre {b} centre {opts}\n")
                     if k == nz - 1:
                         n += 1
-                        if plane:
-                            f.write(f"spring {n} {a} centre -1 {i} {j} {k + 1} {opts} plane 0 0 1\n")
+                        if plane:  # the plane through the particle's centre (s = 0 at rest, as every other spring)
+                            f.write(f"spring {n} {a} centre -1 {i} {j} {k} {opts} plane 0 0 1\n")
                         else:
                             f.write(f"spring {n} {a} centre -1 {i} {j} {k + 1} {opts}\n")
     return n

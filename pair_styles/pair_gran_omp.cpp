@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdint>
 #include <exception>
 #include <mutex>
 
@@ -23,8 +24,8 @@ using namespace LAMMPS_NS;
 
 namespace dembridge {
 
-// Boundary atoms per scheduling chunk of the gather pass. Results do not depend on it.
-static constexpr int kChunkAtoms = 32;
+// Atom ranges the first blocks are resolved in, shared among the threads. Results do not depend on it.
+static constexpr int kResolveChunks = 64;
 // Cost of a touching pair relative to a neighbour entry that is not touching (block balance only).
 static constexpr double kContactCost = 8.0;
 
@@ -61,13 +62,13 @@ void PairGranOMP::compute(int eflag, int vflag)
   ev_init(eflag, vflag);
   if (!force_on()) return;
   begin_contacts();
+  if (list->inum == 0) return end_contacts();  // (no per-atom arrays to point at)
   const int nreceive = force->newton_pair ? atom->nlocal + atom->nghost : atom->nlocal;
   index_list(nreceive, nthreads);
 
-  double **f = atom->f, **torque = atom->torque;
+  double *f = atom->f[0], *torque = atom->torque[0];
   const bool keep_all = evflag;  // the virial tally walks every contact afterwards
-  const int nblocks = gather_.nblocks(), nboundary = gather_.nboundary();
-  const int nchunks_boundary = (nboundary + kChunkAtoms - 1) / kChunkAtoms;
+  const int nblocks = gather_.nblocks();
   std::exception_ptr failure;
   std::mutex failure_lock;
   std::atomic<bool> failed{false};
@@ -82,13 +83,14 @@ void PairGranOMP::compute(int eflag, int vflag)
 #else
     const int tid = 0, nt = 1;
 #endif
-    // pass 1: each block's rows in order by one thread (its interior atoms get the serial order)
+    // pass 1: each block's rows in order by one thread; atoms an earlier block names are deferred
     for (int b = tid; b < nblocks; b += nt) {
       try {
-        gather_.clear_contacts(gather_.block_begin(b), gather_.block_begin(b + 1));
+        gather_.begin_block(b, keep_all);
         for_each_contact(gather_.block_begin(b), gather_.block_begin(b + 1),
                          [&](int i, int j, int ii, int jj, const gran::ContactResult &res) {
-                           gather_.add(gather_.first_pair(ii) + std::size_t(jj), i, j, res.F, res.Ti, res.Tj, f, torque, keep_all);
+                           gather_.add(b, i, j, res.F, res.Ti, res.Tj, f, torque);
+                           if (keep_all) gather_.keep(gather_.first_pair(ii) + std::size_t(jj), res.F);
                          });
       } catch (...) {  // no exception may leave the parallel region; the error is raised after it
         std::lock_guard<std::mutex> hold(failure_lock);
@@ -98,13 +100,9 @@ void PairGranOMP::compute(int eflag, int vflag)
     }
 #if defined(_OPENMP)
 #pragma omp barrier
-#pragma omp for schedule(dynamic, 1)
 #endif
-    // pass 2: the atoms where blocks meet sum their kept terms in the serial order
-    for (int c = 0; c < nchunks_boundary; c++) {
-      if (failed) continue;
-      gather_.gather_boundary(c * kChunkAtoms, std::min(nboundary, (c + 1) * kChunkAtoms), f, torque);
-    }
+    // pass 2: the deferred terms, after the earlier blocks' own additions (the serial order)
+    if (!failed) gather_.apply_deferred(tid, nt, f, torque);
   }
   if (failure) std::rethrow_exception(failure);
   threads_used_ = used;
@@ -116,9 +114,8 @@ void PairGranOMP::compute(int eflag, int vflag)
 // The gather index follows the neighbour list: rebuilt whenever LAMMPS rebuilt the lists.
 void PairGranOMP::index_list(int nreceive, int nblocks)
 {
-  const int natoms = atom->nlocal + atom->nghost;
   if (gather_build_ == neighbor->ncalls && gather_.nreceive() == nreceive && gather_.inum() == list->inum &&
-      gather_.natoms() == std::max(natoms, nreceive) && gather_.nblocks() == nblocks)
+      gather_.nblocks() == nblocks)
     return;
   // Blocks of equal expected work: a touching pair costs the contact law, about kContactCost
   // times an entry that fails the overlap test (callgrind, chute). Touching now is a good guess
@@ -126,24 +123,42 @@ void PairGranOMP::index_list(int nreceive, int nblocks)
   double **x = atom->x;
   const double *radius = atom->radius;
   const int inum = list->inum;
+  const int *ilist = list->ilist, *numneigh = list->numneigh;
+  int *const *firstneigh = list->firstneigh;
   row_weight_.resize(std::size_t(std::max(0, inum)));
 #if defined(_OPENMP)
-#pragma omp parallel for num_threads(nblocks) schedule(static)
+#pragma omp parallel num_threads(nblocks)
 #endif
-  for (int ii = 0; ii < inum; ii++) {
-    const int i = list->ilist[ii];
-    const int *jlist = list->firstneigh[i];
-    int touching = 0;
-    for (int jj = 0; jj < list->numneigh[i]; jj++) {
-      const int j = jlist[jj] & NEIGHMASK;
-      const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
-      const double radsum = radius[i] + radius[j];
-      touching += dx * dx + dy * dy + dz * dz < radsum * radsum;
+  {
+#if defined(_OPENMP)
+#pragma omp for schedule(static)
+#endif
+    for (int ii = 0; ii < inum; ii++) {
+      const int i = ilist[ii];
+      const int *jlist = firstneigh[i];
+      int touching = 0;
+      for (int jj = 0; jj < numneigh[i]; jj++) {
+        const int j = jlist[jj] & NEIGHMASK;
+        const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+        const double radsum = radius[i] + radius[j];
+        touching += dx * dx + dy * dy + dz * dz < radsum * radsum;
+      }
+      row_weight_[ii] = numneigh[i] + kContactCost * touching;
     }
-    row_weight_[ii] = list->numneigh[i] + kContactCost * touching;
+#if defined(_OPENMP)
+#pragma omp single
+#endif
+    gather_.index(inum, ilist, numneigh, nreceive, nblocks, row_weight_.data());
+#if defined(_OPENMP)
+#pragma omp for schedule(static, 1)
+#endif
+    for (int b = 0; b < gather_.nblocks(); b++) gather_.mark_block(b, ilist, numneigh, firstneigh, NEIGHMASK);
+#if defined(_OPENMP)
+#pragma omp for schedule(static)
+#endif
+    for (int c = 0; c < kResolveChunks; c++)
+      gather_.resolve(int(std::int64_t(nreceive) * c / kResolveChunks), int(std::int64_t(nreceive) * (c + 1) / kResolveChunks));
   }
-  gather_.build(list->inum, list->ilist, list->numneigh, list->firstneigh, NEIGHMASK, natoms, nreceive, nblocks,
-                row_weight_.data());
   gather_build_ = neighbor->ncalls;
 }
 
@@ -160,7 +175,7 @@ void PairGranOMP::tally_virial()
     for (int jj = 0; jj < numneigh[i]; jj++) {
       if (!gather_.kept(p0 + jj)) continue;
       const int j = firstneigh[i][jj] & NEIGHMASK;
-      const double *F = gather_.terms(p0 + jj).F;
+      const double *F = gather_.kept_force(p0 + jj);
       ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, F[0], F[1], F[2], x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]);
     }
   }

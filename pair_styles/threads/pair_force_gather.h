@@ -4,37 +4,41 @@
 // force copies summed afterwards change the order of the additions (round-off, then chaos in a
 // dense granular bed).
 //
-// Here the list is cut into contiguous blocks of rows, one per thread. An atom all of whose pairs
-// lie in one block ("interior") is written only by that block's thread, in row order: the serial
-// order. An atom with pairs in two blocks ("boundary": a thin layer where blocks meet) is not
-// written during the pass; its pairs' terms are kept in one slot per list entry, and a second pass
-// adds them to the atom in slot order, which is again the serial order. Each addition happens in
-// exactly the serial sequence, so the sums are identical to one thread's.
-// LAMMPS-free: the neighbour list comes in as LAMMPS's arrays (ilist, numneigh, firstneigh).
+// Here the list is cut into contiguous blocks of rows, one per thread. Every atom named by a
+// block's rows (its own row or as a neighbour) has a first block: the lowest-numbered block naming
+// it. In the serial order all of that block's additions to the atom come before those of any later
+// block, so the first block's thread adds straight to the atom, in row order. A later block's thread
+// must not touch the atom yet: it appends the term to its block's log (in row order). After every
+// block is done, the logs are applied block after block, each in its own order, atom by atom: again
+// exactly the serial sequence of additions, so the sums are identical to one thread's. Atoms named by
+// one block only (nearly all, the list being sorted in space) never reach a log.
+// LAMMPS-free: the neighbour list comes in as LAMMPS's arrays (ilist, numneigh, firstneigh); per-atom
+// vectors are flat (f[3*k + c]).
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace dembridge::threads {
 
-// What one contact gives its two atoms: +F and Ti to i, -F and Tj to j.
-struct PairTerms {
-  double F[3], Ti[3], Tj[3];
-};
-
 class PairForceGather {
  public:
-  // Index a half neighbour list once per rebuild, cut into nblocks blocks of about equal work:
-  // row_weight[ii] (the expected cost of row ii), or the number of entries when null. Atoms with
-  // index < nreceive receive their share as the second atom of a pair (nlocal with newton off,
-  // nlocal + nghost with newton on); entries are masked with neighmask. natoms bounds every atom
-  // index in the list.
-  void build(int inum, const int *ilist, const int *numneigh, int *const *firstneigh, int neighmask, int natoms,
-             int nreceive, int nblocks, const double *row_weight = nullptr);
+  // Index a half neighbour list once per rebuild, in three phases so that threads can share the
+  // work (build() runs them all on the calling thread):
+  //  1. index (one thread): rows' first slots and nblocks blocks of about equal work: row_weight[ii]
+  //     (the expected cost of row ii), or the number of entries when null. Atoms with index <
+  //     nreceive receive their share as the second atom of a pair (nlocal with newton off, nlocal +
+  //     nghost with newton on); every list atom ilist[ii] is below nreceive.
+  //  2. mark_block(b) for every block (any thread, any order): the atoms block b names.
+  //  3. resolve(from, to) on disjoint ranges covering [0, nreceive) (any thread): first blocks.
+  void index(int inum, const int *ilist, const int *numneigh, int nreceive, int nblocks, const double *row_weight = nullptr);
+  void mark_block(int b, const int *ilist, const int *numneigh, int *const *firstneigh, int neighmask);
+  void resolve(int from, int to);
+  void build(int inum, const int *ilist, const int *numneigh, int *const *firstneigh, int neighmask, int nreceive, int nblocks,
+             const double *row_weight = nullptr);
 
   int inum() const { return offset_.empty() ? -1 : int(offset_.size()) - 1; }
-  int natoms() const { return natoms_; }
   int nreceive() const { return nreceive_; }
   int nblocks() const { return int(block_.size()) - 1; }
   std::size_t npairs() const { return offset_.empty() ? 0 : offset_.back(); }
@@ -42,56 +46,67 @@ class PairForceGather {
   int block_begin(int b) const { return block_[b]; }
   // Slot of the first neighbour of the ii-th list atom; the jj-th neighbour is first_pair(ii) + jj.
   std::size_t first_pair(int ii) const { return offset_[ii]; }
-  int nboundary() const { return int(boundary_atoms_.size()); }
+  // Atoms whose terms block b defers to its log (named by an earlier block); diagnostics and tests.
+  int ndeferred_atoms(int b) const;
 
-  // Pass 1, one thread per block, rows in order: clear the block's contact flags, then add each
-  // contact. It goes straight to interior atoms; its terms are kept when an atom is on the
-  // boundary, or always with keep_all (for a later walk over every contact, e.g. the virial).
-  void clear_contacts(int ii_from, int ii_to);
-  void add(std::size_t p, int i, int j, const double F[3], const double Ti[3], const double Tj[3], double **f, double **torque,
-           bool keep_all)
+  // Pass 1, one thread per block, its rows in order: begin_block(b), then add() for each contact
+  // (slot = first_pair(ii) + jj). With keep_all every contact's F is also kept for a later walk
+  // over all contacts (the virial), and begin_block clears the block's flags of the last such step.
+  void begin_block(int b, bool keep_all);
+  void add(int b, int i, int j, const double F[3], const double Ti[3], const double Tj[3], double *f, double *torque)
   {
-    const bool j_receives = j < nreceive_;
-    const bool bi = boundary_[i] != 0, bj = j_receives && boundary_[j] != 0;
-    if (!bi)
+    if (first_block_[i] == b)
       for (int c = 0; c < 3; c++) {
-        f[i][c] += F[c];
-        torque[i][c] += Ti[c];
+        f[3 * i + c] += F[c];
+        torque[3 * i + c] += Ti[c];
       }
-    if (j_receives && !bj)
+    else
+      defer(b, i, F, Ti, 1.0);
+    if (j >= nreceive_) return;
+    if (first_block_[j] == b)
       for (int c = 0; c < 3; c++) {
-        f[j][c] -= F[c];
-        torque[j][c] += Tj[c];
+        f[3 * j + c] -= F[c];
+        torque[3 * j + c] += Tj[c];
       }
-    if (bi || bj || keep_all) {
-      PairTerms &t = terms_[p];
-      for (int c = 0; c < 3; c++) {
-        t.F[c] = F[c];
-        t.Ti[c] = Ti[c];
-        t.Tj[c] = Tj[c];
-      }
-      contact_[p] = 1;
-    }
+    else
+      defer(b, j, F, Tj, -1.0);  // f - F and f + (-F) are the same number
   }
-  bool kept(std::size_t p) const { return contact_[p] != 0; }
-  const PairTerms &terms(std::size_t p) const { return terms_[p]; }
+  void keep(std::size_t slot, const double F[3])
+  {
+    for (int c = 0; c < 3; c++) kept_F_[3 * slot + c] = F[c];
+    kept_[slot] = 1;
+  }
+  bool kept(std::size_t slot) const { return kept_[slot] != 0; }
+  const double *kept_force(std::size_t slot) const { return &kept_F_[3 * slot]; }
 
-  // Pass 2 (any thread, disjoint ranges of [0, nboundary())): the boundary atoms' sums, in slot order.
-  void gather_boundary(int from, int to, double **f, double **torque) const;
+  // Pass 2, after every block's pass 1: the logs' terms of the atoms k with k % nparts == part
+  // (one call per part, any thread), blocks in order, each log in its order.
+  void apply_deferred(int part, int nparts, double *f, double *torque) const;
 
   std::size_t memory_bytes() const;
 
  private:
-  int natoms_ = 0, nreceive_ = 0;
-  std::vector<int> block_;               // first row of each block; block_[nblocks] = inum
-  std::vector<std::size_t> offset_;      // per list row ii: first slot; offset_[inum] = npairs
-  std::vector<int> list_pos_;            // per atom: its row in the list, -1 if it has none
-  std::vector<unsigned char> boundary_;  // per receiving atom: has pairs in two blocks
-  std::vector<int> boundary_atoms_;
-  std::vector<std::size_t> as_j_start_;  // per boundary atom (by its index in boundary_atoms_): its run in as_j_
-  std::vector<std::size_t> as_j_;        // slots where the boundary atom is the second atom, ascending
-  std::vector<PairTerms> terms_;
-  std::vector<unsigned char> contact_;
+  struct Deferred {
+    int k;
+    double F[3], T[3];
+  };
+  struct alignas(64) Log {  // one per block, written by its thread only (own cache lines)
+    std::vector<Deferred> terms;
+  };
+
+  int nreceive_ = 0;
+  std::vector<int> block_;             // first row of each block; block_[nblocks] = inum
+  std::vector<std::size_t> offset_;    // per list row ii: first slot; offset_[inum] = npairs
+  std::vector<unsigned char> named_;   // [b * nreceive + k]: block b names atom k (rebuild scratch)
+  std::vector<std::uint16_t> first_block_;  // per receiving atom: the first block naming it
+  std::vector<Log> log_;
+  std::vector<double> kept_F_;         // per slot, steps with keep_all
+  std::vector<unsigned char> kept_;
+
+  void defer(int b, int k, const double F[3], const double T[3], double sign)
+  {
+    log_[b].terms.push_back({k, {sign * F[0], sign * F[1], sign * F[2]}, {T[0], T[1], T[2]}});
+  }
 };
 
 }  // namespace dembridge::threads

@@ -1,6 +1,6 @@
 // PairForceGather against the serial scatter loop it replaces (the loop of PairGran::compute):
-// the gathered forces and torques must be bit-identical, whatever the atom ranges the passes are
-// split into, with newton off (only owned atoms receive j-shares) and on.
+// the gathered forces and torques must be bit-identical, whatever the blocks and the parts the
+// deferred pass is split into, with newton off (only owned atoms receive j-shares) and on.
 #include "pair_force_gather.h"
 
 #include <gtest/gtest.h>
@@ -88,31 +88,52 @@ static void check_gather_equals_serial(bool newton)
 
   PairForceGather g;
   for (int split : {1, 2, 3, 7}) {
-    g.build(inum, L.ilist.data(), L.numneigh.data(), L.firstneigh.data(), kNeighMask, nall, nreceive, split);
+    if (split == 3) {  // the rebuild phases as threads would run them: blocks and atom ranges in any order
+      g.index(inum, L.ilist.data(), L.numneigh.data(), nreceive, split);
+      for (int b = split - 1; b >= 0; b--) g.mark_block(b, L.ilist.data(), L.numneigh.data(), L.firstneigh.data(), kNeighMask);
+      g.resolve(nreceive / 2, nreceive);
+      g.resolve(0, nreceive / 2);
+    } else {
+      g.build(inum, L.ilist.data(), L.numneigh.data(), L.firstneigh.data(), kNeighMask, nreceive, split);
+    }
     ASSERT_EQ(split, g.nblocks());
     std::vector<double> fg = f0, tg = t0;
-    std::vector<double *> fp(nall), tp(nall);
-    for (int k = 0; k < nall; k++) fp[k] = &fg[3 * k], tp[k] = &tg[3 * k];
+    const bool keep_all = split == 3;
     // pass 1 block by block in reverse order (threads run in any order relative to each other)
     for (int b = split - 1; b >= 0; b--) {
-      g.clear_contacts(g.block_begin(b), g.block_begin(b + 1));
+      g.begin_block(b, keep_all);
       for (int ii = g.block_begin(b); ii < g.block_begin(b + 1); ii++) {
         const int i = L.ilist[ii];
         for (int jj = 0; jj < L.numneigh[i]; jj++) {
           const Contact &c = contacts[i][jj];
-          if (c.touching)
-            g.add(g.first_pair(ii) + jj, i, L.firstneigh[i][jj] & kNeighMask, c.F, c.Ti, c.Tj, fp.data(), tp.data(), split == 3);
+          if (!c.touching) continue;
+          g.add(b, i, L.firstneigh[i][jj] & kNeighMask, c.F, c.Ti, c.Tj, fg.data(), tg.data());
+          if (keep_all) g.keep(g.first_pair(ii) + jj, c.F);
         }
       }
     }
-    for (int part = 0; part < split; part++)
-      g.gather_boundary(g.nboundary() * part / split, g.nboundary() * (part + 1) / split, fp.data(), tp.data());
+    for (int part = split - 1; part >= 0; part--) g.apply_deferred(part, split, fg.data(), tg.data());
     EXPECT_EQ(0, std::memcmp(fg.data(), fs.data(), fs.size() * sizeof(double))) << "forces, " << split << " blocks";
     EXPECT_EQ(0, std::memcmp(tg.data(), ts.data(), ts.size() * sizeof(double))) << "torques, " << split << " blocks";
+    int deferred = 0;
+    for (int b = 0; b < split; b++) deferred += g.ndeferred_atoms(b);
+    EXPECT_EQ(0, g.ndeferred_atoms(0));
     if (split == 1) {
-      EXPECT_EQ(0, g.nboundary());
+      EXPECT_EQ(0, deferred);
     } else {
-      EXPECT_GT(g.nboundary(), 0);  // random lists: the gather pass is exercised
+      EXPECT_GT(deferred, 0);  // random lists: the deferred pass is exercised
+    }
+    if (keep_all) {  // every touching contact kept, with its force, in its slot
+      for (int ii = 0; ii < inum; ii++) {
+        const int i = L.ilist[ii];
+        for (int jj = 0; jj < L.numneigh[i]; jj++) {
+          const Contact &c = contacts[i][jj];
+          ASSERT_EQ(c.touching, g.kept(g.first_pair(ii) + jj));
+          if (c.touching) {
+            EXPECT_EQ(0, std::memcmp(c.F, g.kept_force(g.first_pair(ii) + jj), sizeof c.F));
+          }
+        }
+      }
     }
   }
   // the gather must actually have changed something (the test is not vacuous)
@@ -122,22 +143,22 @@ static void check_gather_equals_serial(bool newton)
 TEST(PairForceGather, BitIdenticalToSerialLoopNewtonOff) { check_gather_equals_serial(false); }
 TEST(PairForceGather, BitIdenticalToSerialLoopNewtonOn) { check_gather_equals_serial(true); }
 
-TEST(PairForceGather, SeparatedBoundaryPairContributesNothing)
+TEST(PairForceGather, SeparatedDeferredPairContributesNothing)
 {
-  // atoms 0 and 1, each with a row, rows in two blocks: atom 1 is named by block 0, so on the boundary
+  // atoms 0 and 1, each with a row, rows in two blocks: block 0 names both, so block 1 defers both
   int ilist[2] = {0, 1}, numneigh[2] = {1, 1}, row0[1] = {1}, row1[1] = {0};
   int *firstneigh[2] = {row0, row1};
   PairForceGather g;
-  g.build(2, ilist, numneigh, firstneigh, kNeighMask, 2, 2, 2);
-  ASSERT_EQ(2, g.nboundary());
+  g.build(2, ilist, numneigh, firstneigh, kNeighMask, 2, 2);
+  ASSERT_EQ(2, g.ndeferred_atoms(1));
   const double F[3] = {1, 2, 3}, T[3] = {4, 5, 6};
-  double f[2][3] = {{0, 0, 0}, {0, 0, 0}}, t[2][3] = {{0, 0, 0}, {0, 0, 0}};
-  double *fp[2] = {f[0], f[1]}, *tp[2] = {t[0], t[1]};
-  g.clear_contacts(0, 2);
-  g.add(g.first_pair(0), 0, 1, F, T, T, fp, tp, false);
-  g.clear_contacts(0, 2);  // next step: the pair separated
-  g.gather_boundary(0, g.nboundary(), fp, tp);
-  for (int k = 0; k < 3; k++) EXPECT_EQ(0.0, f[0][k] + f[1][k] + t[0][k] + t[1][k]);
+  double f[6] = {0, 0, 0, 0, 0, 0}, t[6] = {0, 0, 0, 0, 0, 0};
+  g.begin_block(1, false);
+  g.add(1, 1, 0, F, T, T, f, t);  // deferred: nothing written yet
+  for (int k = 0; k < 6; k++) EXPECT_EQ(0.0, f[k] + t[k]);
+  g.begin_block(1, false);  // next step: the pair separated
+  g.apply_deferred(0, 1, f, t);
+  for (int k = 0; k < 6; k++) EXPECT_EQ(0.0, f[k] + t[k]);
 }
 
 TEST(PairForceGather, SpatiallySortedListHasThinBoundary)
@@ -154,7 +175,7 @@ TEST(PairForceGather, SpatiallySortedListHasThinBoundary)
     firstneigh[i] = rows[i].data();
   }
   PairForceGather g;
-  g.build(n, ilist.data(), numneigh.data(), firstneigh.data(), kNeighMask, n, n, 2);
-  EXPECT_LE(g.nboundary(), 3);
-  EXPECT_GT(g.nboundary(), 0);
+  g.build(n, ilist.data(), numneigh.data(), firstneigh.data(), kNeighMask, n, 2);
+  EXPECT_LE(g.ndeferred_atoms(1), 3);
+  EXPECT_GT(g.ndeferred_atoms(1), 0);
 }

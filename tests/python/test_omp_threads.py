@@ -180,3 +180,48 @@ def test_contact_error_inside_a_thread_stops_cleanly(tmp_path):
     assert res.returncode != 0
     assert re.search(r"ERROR.*pair_style gran/hooke/history: atom 1 at .* and atom 2 at .* are coincident", out), out[-2000:]
     assert "terminate called" not in out and "Segmentation" not in out
+
+
+def _hybrid_deck_pair():
+    # two atom types, a pair_style hybrid of two plugin styles (hooke for 1-1 and 1-2, hertz for 2-2);
+    # compute pair/gran/local does not take hybrid, so the 4th thermo column is the rotational energy
+    pair = "\n".join([
+        "set type 1 type/fraction 2 0.5 77123",
+        "pair_style hybrid gran/hooke/history 2000.0 NULL 50.0 NULL 0.5 1 gran/hertz/history 3000.0 NULL 60.0 NULL 0.4 1",
+        "pair_coeff 1 1 gran/hooke/history",
+        "pair_coeff 1 2 gran/hooke/history",
+        "pair_coeff 2 2 gran/hertz/history",
+        "compute rot all erotate/sphere"])
+    return pair
+
+
+def _run_hybrid(tmp_path, tag, args=(), suffix_line=""):
+    deck = DENSE.replace("create_box 1 box", "create_box 2 box").replace("set type 1 density 1.0", "set group all density 1.0")
+    deck = deck.replace("compute c all pair/gran/local\ncompute fn all reduce sum c_c[4] inputs local\n", "")
+    deck = deck.replace("pair_coeff * *\n", "").replace("c_fn", "c_rot")
+    wd = tmp_path / tag
+    wd.mkdir()
+    (wd / "in.deck").write_text(deck.format(plugin=dembridge.plugin_path(), suffix=suffix_line, pair=_hybrid_deck_pair(),
+                                            newton="off"))
+    env = dict(os.environ, OMP_NUM_THREADS="1", OMP_WAIT_POLICY="passive")
+    p = subprocess.run([dembridge.lmp_executable(), "-in", "in.deck", "-log", "log.lammps", "-nocite", *args], cwd=wd, env=env,
+                       capture_output=True, text=True, timeout=900)
+    log = (wd / "log.lammps").read_text() if (wd / "log.lammps").exists() else ""
+    assert p.returncode == 0 and "ERROR" not in log, p.stdout[-3000:] + p.stderr[-3000:]
+    return log, (wd / "final.dump").read_text()
+
+
+@pytest.mark.parametrize("how", ["sf", "suffix"])
+def test_pair_hybrid_of_omp_sub_styles(tmp_path, how):
+    # -sf omp / suffix omp turn each sub-style of pair hybrid into the plugin's /omp twin: both run
+    # on 2 threads (each logs its report) and the run is bit-identical to plain hybrid on 1 thread
+    ref_log, ref_dump = _run_hybrid(tmp_path, "plain")
+    assert not THREADS_LINE.search(ref_log)
+    _dense_enough(ref_log)
+    if how == "sf":
+        log, dump = _run_hybrid(tmp_path, "sf2", args=["-sf", "omp", "-pk", "omp", "2"])
+    else:
+        log, dump = _run_hybrid(tmp_path, "suffix2", suffix_line="package omp 2\nsuffix omp")
+    assert sorted(THREADS_LINE.findall(log)) == [("gran/hertz/history", "2"), ("gran/hooke/history", "2")], log[-3000:]
+    assert _thermo(log) == _thermo(ref_log), "2 threads changed the thermo output of pair hybrid"
+    assert dump == ref_dump, "2 threads: final per-atom state of pair hybrid differs from 1 thread"

@@ -407,7 +407,7 @@ void FixParmecSpring::evaluate(Mode mode)
   // Phase 1, threaded: every spring from its own record and the atoms' (read-only) data; it writes its
   // record, its output row, its plan item and its result only, so the outcome does not depend on the
   // thread count. flags: kMoved (a part2 index changed), kFailed.
-  const int nthreads = std::max(1, comm->nthreads);
+  [[maybe_unused]] const int nthreads = std::max(1, comm->nthreads);  // used by the OpenMP pragmas only
   int flags = 0;
 #if defined(_OPENMP)
 #pragma omp parallel num_threads(nthreads) if (nthreads > 1 && nlocal > 1) reduction(| : flags)

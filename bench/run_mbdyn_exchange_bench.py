@@ -13,8 +13,9 @@ run below, so it cancels.
                      coupled (P5: <= 2 %), plain and coupled in the same round
 The LAMMPS CPU time of the loop is the loop time times LAMMPS' own "% CPU use"; the client's is getrusage. Rounds are
 interleaved (bare, plain, coupled per socket) and `uptime` is printed with each. Callgrind (load-independent): Ir of
-LAMMPS' Verlet::run per step, coupled minus plain, at 100 nodes and in the 10^4 bed (Ir share). strace -c: system
-calls per exchange of the LAMMPS process, coupled minus plain.
+LAMMPS' Verlet::run per step, coupled minus plain, and the inclusive Ir of fix mbdyn's per-step entry points, at 100
+nodes and in the 10^4 bed (their share of the coupled step). strace -c: system calls per exchange of the LAMMPS
+process (coupled runs of two lengths, differenced).
 
 usage: .venv/bin/python bench/run_mbdyn_exchange_bench.py [--build build] [--plugin PATH] [--rounds 3] [--steps 2000]
        [--big-steps 100] [--callgrind-steps 400] [--no-wall] [--no-callgrind] [--no-strace] [--library]
@@ -156,26 +157,43 @@ def wall_rounds(b, rounds, steps, big_steps):
     return rows
 
 
+FIX_ENTRIES = ("FixMBDyn::post_integrate()", "FixMBDyn::post_force(int)", "FixMBDyn::end_of_step()")
+
+
 def callgrind_ir(b, kind, natoms, steps, coupled):
+    """(Ir of the run loop, Ir inside fix mbdyn's per-step entry points: inclusive, so the socket calls' user-space
+    side, decoding, MPI and LAMMPS calls made by the fix all count)."""
     out = os.path.join(b.work, "cg.out")
     prefix = ["valgrind", "--tool=callgrind", "--collect-atstart=no", f"--toggle-collect={TOGGLE}",
               f"--callgrind-out-file={out}"]
     b.lammps(kind, natoms, steps, coupled, prefix)
     with open(out) as fh:
-        m = re.search(r"^summary:\s+(\d+)", fh.read(), re.M)
-    return int(m.group(1))
+        total = int(re.search(r"^summary:\s+(\d+)", fh.read(), re.M).group(1))
+    ann = subprocess.run(["callgrind_annotate", "--inclusive=yes", "--threshold=100", out], capture_output=True,
+                         text=True).stdout
+    fix = 0
+    for line in ann.splitlines():
+        m = re.match(r"\s*([\d,]+) .*dembridge::(FixMBDyn::\w+\([^)]*\))", line)
+        if m and m.group(2) in FIX_ENTRIES:
+            fix += int(m.group(1).replace(",", ""))
+    return total, fix
 
 
-def syscalls(b, kind, steps, coupled):
-    """{syscall: calls} of the LAMMPS process over the whole run (strace -c)."""
-    out = os.path.join(b.work, "strace.out")
-    b.lammps(kind, NODES, steps, coupled, ["strace", "-f", "-c", "-o", out])
-    counts = {}
-    for line in open(out):
-        f = line.split()
-        if len(f) >= 5 and f[0][0].isdigit() and f[-1] != "total":
-            counts[f[-1]] = int(f[3])
-    return counts
+def syscalls(b, kind, steps):
+    """{syscall: calls per exchange} of the LAMMPS process: coupled runs of steps and 2 steps, differenced, so start-up
+    and teardown cancel (strace -c)."""
+    def count(n):
+        out = os.path.join(b.work, "strace.out")
+        b.lammps(kind, NODES, n, True, ["strace", "-f", "-c", "-o", out])
+        counts = {}
+        for line in open(out):
+            f = line.split()
+            if len(f) >= 5 and f[0][0].isdigit() and f[-1] != "total":
+                counts[f[-1]] = int(f[3])
+        return counts
+    c1, c2 = count(steps), count(2 * steps)
+    per = {k: (c2.get(k, 0) - c1.get(k, 0)) / steps for k in set(c1) | set(c2)}
+    return {k: v for k, v in per.items() if abs(v) >= 0.05}
 
 
 def main():
@@ -199,22 +217,23 @@ def main():
         if a.library:
             library_figures(a.build)
         if not a.no_callgrind:
-            print(f"\ncallgrind, Ir of {TOGGLE} (load-independent):")
-            print("| socket | run | steps | plain Ir/step | coupled Ir/step | added Ir per exchange | share of Ir |")
-            print("|---|---|---|---|---|---|---|")
+            print(f"\ncallgrind, Ir of {TOGGLE} (load-independent); fix = inclusive Ir of fix mbdyn's post_integrate, "
+                  "post_force and end_of_step in the coupled run:")
+            print("| socket | run | steps | plain Ir/step | coupled Ir/step | coupled - plain | fix Ir/step | "
+                  "fix share of the coupled step |")
+            print("|---|---|---|---|---|---|---|---|")
             for kind in ("unix", "tcp"):
                 for natoms, steps in ((NODES, a.callgrind_steps), (10000, max(10, a.callgrind_steps // 20))):
-                    p = callgrind_ir(b, kind, natoms, steps, False) / steps
-                    c = callgrind_ir(b, kind, natoms, steps, True) / steps
-                    print(f"| {kind} | {natoms} atoms | {steps} | {p:,.0f} | {c:,.0f} | {c - p:,.0f} | "
-                          f"{100 * (c - p) / c:.2f} % |", flush=True)
+                    p = callgrind_ir(b, kind, natoms, steps, False)[0] / steps
+                    c, fix = (v / steps for v in callgrind_ir(b, kind, natoms, steps, True))
+                    print(f"| {kind} | {natoms} atoms | {steps} | {p:,.0f} | {c:,.0f} | {c - p:,.0f} | {fix:,.0f} | "
+                          f"{100 * fix / c:.2f} % |", flush=True)
         if not a.no_strace:
             steps = a.callgrind_steps
-            print(f"\nsystem calls of LAMMPS per exchange (strace -c, coupled minus plain, {steps} steps):")
+            print(f"\nsystem calls of LAMMPS per exchange (strace -c, coupled runs of {steps} and {2 * steps} steps, "
+                  "differenced):")
             for kind in ("unix", "tcp"):
-                p, c = syscalls(b, kind, steps, False), syscalls(b, kind, steps, True)
-                per = {k: (c.get(k, 0) - p.get(k, 0)) / steps for k in set(c) | set(p)}
-                per = {k: v for k, v in per.items() if abs(v) >= 0.5}
+                per = syscalls(b, kind, steps)
                 print(f"  {kind}: {sum(per.values()):.2f} per exchange: " +
                       ", ".join(f"{k} {v:.2f}" for k, v in sorted(per.items(), key=lambda kv: -kv[1])), flush=True)
         if not a.no_wall:

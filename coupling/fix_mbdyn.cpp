@@ -399,10 +399,16 @@ void FixMBDyn::init()
     return all;
   };
   const int me = modify->find_fix(id);
+  // end_of_step puts the coupled atoms' velocities back only if another fix can change them
+  // (integrators, and fixes that act at integration or end-of-step time, e.g. temp/rescale).
+  constexpr int moves_v = INITIAL_INTEGRATE | POST_INTEGRATE | FINAL_INTEGRATE | END_OF_STEP;
+  others_move_coupled_ = false;
   for (int i = 0; i < modify->nfix; ++i) {
     Fix *f = modify->fix[i];
-    if (f == this || !f->time_integrate) continue;
+    if (f == this || !(f->time_integrate || (modify->fmask[i] & moves_v))) continue;
     const bigint n = coupled_in(f);
+    if (n > 0) others_move_coupled_ = true;
+    if (!f->time_integrate) continue;
     if (n > 0 && comm->me == 0)
       error->warning(FLERR, prefix + "fix " + std::string(f->id) + " (style " + f->style + ") integrates " +
                                 std::to_string(n) + " coupled atoms; fix mbdyn overrides their motion, so leave "
@@ -549,7 +555,12 @@ void FixMBDyn::decode_to_global(std::vector<Pose> &out)
     const V3 x = k.position(i), v = k.velocity(i);
     V3 w{0, 0, 0};
     if (rot) w = {k.omega[3 * i], k.omega[3 * i + 1], k.omega[3 * i + 2]};
-    const M9 R = rot ? k.rotation_matrix(i) : M9{1, 0, 0, 0, 1, 0, 0, 0, 1};
+    M9 R{1, 0, 0, 0, 1, 0, 0, 0, 1};
+    if (k.rotation == mb::Rotation::OrientationMatrix)  // MBDyn's default: no format dispatch, no bounds check
+      R = mb::matrix_from_wire_column_major(&k.orientation[9 * i]);
+    else if (rot) {
+      R = k.rotation_matrix(i);
+    }
     if (!k.has_reference) {
       p.x = x;
       p.v = v;
@@ -727,12 +738,13 @@ void FixMBDyn::accumulate_loads(const std::vector<Pose> &poses, std::vector<doub
   // plus the atoms' torques (spec §4.3: global frame, moment about the point).
   const int n = static_cast<int>(nodes_.size());
   std::vector<double> &local = local_loads_;
-  local.assign(6 * n, 0.0);
   double **x = atom->x, **f = atom->f;
   double **torque = atom->torque_flag ? atom->torque : nullptr;
+  // minimum_image changes nothing without a periodic dimension
+  const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
   auto add = [&](int i, int k) {
     double d[3] = {x[i][0] - poses[k].x[0], x[i][1] - poses[k].x[1], x[i][2] - poses[k].x[2]};
-    domain->minimum_image(here(), __LINE__, d);
+    if (periodic) domain->minimum_image(here(), __LINE__, d);
     const V3 m = cross(d, f[i]);
     for (int c = 0; c < 3; ++c) {
       local[6 * k + c] += f[i][c];
@@ -740,12 +752,26 @@ void FixMBDyn::accumulate_loads(const std::vector<Pose> &poses, std::vector<doub
     }
   };
   if (one_atom_per_node_ && fast_member_lookup()) {
-    // one atom per node: each node's sum has one term, so the visiting order does not matter
+    // One atom per node, one member per node: each node's six entries are written once, zero when
+    // its atom is on another rank (0.0 + term: the same bits as adding to a zeroed slot).
+    local.resize(6 * n);
     for (const auto &tm : member_list_) {
-      const int i = atom->map(tm.first);
-      if (i >= 0 && i < atom->nlocal && atom->tag[i] == tm.first) add(i, tm.second.node);
+      const int i = atom->map(tm.first), k = tm.second.node;
+      double *slot = &local[6 * k];
+      if (i >= 0 && i < atom->nlocal && atom->tag[i] == tm.first) {
+        double d[3] = {x[i][0] - poses[k].x[0], x[i][1] - poses[k].x[1], x[i][2] - poses[k].x[2]};
+        if (periodic) domain->minimum_image(here(), __LINE__, d);
+        const V3 m = cross(d, f[i]);
+        for (int c = 0; c < 3; ++c) {
+          slot[c] = 0.0 + f[i][c];
+          slot[3 + c] = 0.0 + (m[c] + (torque ? torque[i][c] : 0.0));
+        }
+      } else {
+        for (int c = 0; c < 6; ++c) slot[c] = 0.0;
+      }
     }
   } else {
+    local.assign(6 * n, 0.0);
     for (int i = 0; i < atom->nlocal; ++i) {
       if (allbits_ && !(atom->mask[i] & allbits_)) continue;
       auto it = members_.find(atom->tag[i]);
@@ -1006,12 +1032,12 @@ void FixMBDyn::post_force(int vflag)
   std::vector<double> &avg = avg_;  // reused: no allocation per step
   auto average = [&](const std::vector<double> &last) -> const std::vector<double> & {
     avg.resize(last.size());
-    for (std::size_t c = 0; c < last.size(); ++c) {
-      avg[c] = (fsum_[c] + last[c]) * inv;
-      // the right-end sub-step average is centred at t_k - (N-1) h / 2; the previous one N h
-      // earlier, the t0 loads (N+1) h / 2 earlier
-      if (shift) avg[c] += (avg[c] - prev_avg_[c]) * (substeps_ - 1.0) / (prev_is_t0_ ? substeps_ + 1.0 : 2.0 * substeps_);
-    }
+    for (std::size_t c = 0; c < last.size(); ++c) avg[c] = (fsum_[c] + last[c]) * inv;
+    // the right-end sub-step average is centred at t_k - (N-1) h / 2; the previous one N h
+    // earlier, the t0 loads (N+1) h / 2 earlier
+    if (shift)
+      for (std::size_t c = 0; c < last.size(); ++c)
+        avg[c] += (avg[c] - prev_avg_[c]) * (substeps_ - 1.0) / (prev_is_t0_ ? substeps_ + 1.0 : 2.0 * substeps_);
     return avg;
   };
   auto plain_average = [&](const std::vector<double> &last, std::vector<double> &out) {
@@ -1055,7 +1081,7 @@ void FixMBDyn::post_force(int vflag)
 void FixMBDyn::end_of_step()
 {
   // Integrators must not move coupled atoms; if one did, its velocities are reset here.
-  if (bound_) apply_pose(cur_, false);
+  if (bound_ && others_move_coupled_) apply_pose(cur_, false);
 }
 
 double FixMBDyn::compute_vector(int i)

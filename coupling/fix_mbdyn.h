@@ -125,6 +125,7 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   std::vector<double> local_loads_, step_loads_, avg_;              // per-step buffers, reused
   std::unique_ptr<mbdyn::Loads> answer_;                            // the loads message, reused
   std::vector<MbdynMeshDriver> meshes_;  // node mesh entries, in order
+  bool others_move_coupled_ = true;  // another fix may change coupled atoms' velocities (init)
   int allbits_ = 0;  // union of the group bits of coupled groups (0 if only atoms)
   std::vector<Pose> poseA_, poseB_, cur_;
   std::vector<double> fsum_;  // 6N sum of substep loads 1..N-1 of this MBDyn step

@@ -39,6 +39,8 @@ class FixParmecGranular : public state::PerAtomStateFix {
   void write_restart(FILE *fp) override;
   void restart(char *buf) override;
   double compute_vector(int n) override;
+  // The obstacles at their current pose (compute parmec/obstacles draws them).
+  const std::vector<parmec_contact::Obstacle> &obstacles() const { return obstacles_; }
 
  private:
   void evaluate(Mode mode) override;

@@ -94,12 +94,33 @@ def test_analytical_conversion_of_a_particle(tmp_path):
     assert [n[0] for n in d["point"]["NUMBER"]] == [0, 1]  # its shape is still drawn
 
 
-def test_moving_obstacles_are_named_in_a_warning(tmp_path):
+def test_moving_obstacles_are_drawn_at_their_pose(tmp_path):
+    """A plate rising at 0.5 m/s (linear callback) under a sphere resting on it, beside a static plate: group 0's
+    MESH files draw both; the moving one at z = -1 + 0.5 t within one step's rise (0.5 h; its pose leads the
+    particles by h/2), and at exactly the height of the sphere's contact point in the CD file of the same frame
+    (both are fix parmec/granular's pose of that step)."""
+    h = 1e-4
     script = tmp_path / "plate.py"
-    script.write_text(PRE + "OBSTACLE([(-5, -5, -1, 5, -5, -1, 5, 5, -1)], 2)\n"
-                            "OBSTACLE([(-5, -5, -2, 5, -5, -2, 5, 5, -2)], 2, point=(0, 0, -2), linear=lambda t: (0, 0, 1))\n"
-                            "GRANULAR(1, 2, 1e5)\nOUTPUT(mode='MESH')\nDEM(0.002, 0.001)\n")
-    with pytest.warns(UserWarning, match=r"moving OBSTACLEs \[1\] are not drawn"):
-        run_script(str(script), [], workdir=str(tmp_path))
-    d = read_vtu(read_pvd(str(tmp_path / "plate0.pvd"))[-1][1])
-    assert len(d["cells"]) == 1 and d["points"][0] == [-5.0, -5.0, -1.0]   # the static one
+    script.write_text("m = MATERIAL(1000.0, 1e9, 0.25)\np = SPHERE((0, 0, -0.505), 0.5, m, 1)\n"
+                      "OBSTACLE([(-5, -5, -3, 5, -5, -3, 5, 5, -3)], 2)\n"
+                      "OBSTACLE([(-5, -5, -1, 5, -5, -1, 5, 5, -1), (-5, -5, -1, 5, 5, -1, -5, 5, -1)], 2, "
+                      "point=(0, 0, -1), linear=lambda t: (0, 0, 0.5))\n"
+                      "GRANULAR(1, 2, 1e6, 1.0)\nGRAVITY(0.0, 0.0, -10.0)\nOUTPUT(mode=['MESH', 'CD'])\n"
+                      f"DEM(0.2, {h}, 0.05)\n")
+    run_script(str(script), [], workdir=str(tmp_path))
+    frames = read_pvd(str(tmp_path / "plate0.pvd"))
+    cds = read_pvd(str(tmp_path / "plate0cd.pvd"))
+    assert len(frames) == len(cds) == 4
+    touched = 0
+    for (t, path), (_, cpath) in zip(frames, cds):
+        d = read_vtu(path)
+        assert len(d["cells"]) == 3 and d["points"][0][2] == -3.0   # the static plate, then the moving one
+        z = {p[2] for p in d["points"][3:]}
+        assert len(z) == 1
+        z = z.pop()
+        assert abs(z - (-1 + 0.5 * t)) <= 0.5 * h * 1.0001, (t, z)
+        c = read_vtu(cpath)
+        if t > 0 and c["points"]:
+            touched += 1
+            assert abs(c["points"][0][2] - z) < 1e-12
+    assert touched == 3

@@ -10,6 +10,22 @@ import numpy as np
 from dembridge.parmec import run_script
 
 
+# a box 1 x 1 x 4 of density 1000 (m = 4000, J = m/12 diag(1 + 16, 1 + 16, 1 + 1)); A: its corner (1, 1, 4)
+# from the centre
+BOX = ("m = MATERIAL(1000.0, 1e9, 0.25)\n"
+       "nodes = [0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 4, 1, 0, 4, 1, 1, 4, 0, 1, 4]\n"
+       "b = MESH(nodes, [8, 0, 1, 2, 3, 4, 5, 6, 7, m], m, 1)\n")
+BOX_MASS = 4000.0
+BOX_J = np.diag([BOX_MASS / 12 * 17, BOX_MASS / 12 * 17, BOX_MASS / 12 * 2])
+BOX_ARM = np.array([0.5, 0.5, 2.0])
+
+
+def _run_box(tmp_path, body):
+    script = tmp_path / "box.py"
+    script.write_text(BOX + body)
+    return run_script(str(script), [], workdir=str(tmp_path))
+
+
 def _h(w, xi):
     return (2.0 / w) * (math.sqrt(1.0 + xi * xi) - xi)
 
@@ -19,17 +35,9 @@ def test_perparticle_uses_the_mesh_inertia_tensor(tmp_path):
     k = 1e6 along z at the corner point P = (1, 1, 4) (constant direction, no dashpot). Spec §13: translational
     w_t = sqrt(1 k / m); rotational w_r = sqrt(lambda_max(L^-1 K L^-T)), K = k (|A|^2 I - A A^T), A = P - X,
     J = L L^T; h = min(2/w_t, 2/w_r). The sphere inertia of the same trace would give another h."""
-    script = tmp_path / "box.py"
-    script.write_text(
-        "m = MATERIAL(1000.0, 1e9, 0.25)\n"
-        "nodes = [0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 4, 1, 0, 4, 1, 1, 4, 0, 1, 4]\n"
-        "b = MESH(nodes, [8, 0, 1, 2, 3, 4, 5, 6, 7, m], m, 1)\n"
-        "s = SPRING(b, (1, 1, 4), -1, (1, 1, 5), [-1, -1e6, 1, 1e6], direction=(0, 0, 1))\n"
-        "P = CRITICAL(perparticle=1)\nH = CRITICAL()\nS = CRITICAL(perspring=1)\n")
-    ns = run_script(str(script), [], workdir=str(tmp_path))
-    mass, k = 4000.0, 1e6
-    J = np.diag([mass / 12 * 17, mass / 12 * 17, mass / 12 * 2])
-    A = np.array([0.5, 0.5, 2.0])
+    ns = _run_box(tmp_path, "s = SPRING(b, (1, 1, 4), -1, (1, 1, 5), [-1, -1e6, 1, 1e6], direction=(0, 0, 1))\n"
+                            "P = CRITICAL(perparticle=1)\nH = CRITICAL()\nS = CRITICAL(perspring=1)\n")
+    mass, k, J, A = BOX_MASS, 1e6, BOX_J, BOX_ARM
     K = k * (A @ A * np.eye(3) - np.outer(A, A))
     Li = np.linalg.inv(np.linalg.cholesky(J))
     w_r = math.sqrt(max(np.linalg.eigvalsh(Li @ K @ Li.T)))
@@ -92,17 +100,9 @@ def test_critical_between_dem_calls_sees_the_current_state(tmp_path):
     step its direction is unknown and the per-spring EQM is the largest point mass of the corner (spec §13,
     Q17 fixed: 1/lambda_min(M^-1)); after a DEM call CRITICAL reads the running model, where the direction is z:
     m_s = 1/(1/m + (A x z) . J^-1 (A x z)), as Parmec (which estimates from its current state)."""
-    script = tmp_path / "follow.py"
-    script.write_text(
-        "m = MATERIAL(1000.0, 1e9, 0.25)\n"
-        "nodes = [0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 4, 1, 0, 4, 1, 1, 4, 0, 1, 4]\n"
-        "b = MESH(nodes, [8, 0, 1, 2, 3, 4, 5, 6, 7, m], m, 1)\n"
-        "SPRING(b, (1, 1, 4), -1, (1, 1, 5), [-1, -1e6, 1, 1e6])\n"
-        "S0 = CRITICAL(perspring=1)\nDEM(0.002, 0.001)\nS1 = CRITICAL(perspring=1)\n")
-    ns = run_script(str(script), [], workdir=str(tmp_path))
-    mass, k = 4000.0, 1e6
-    J = np.diag([mass / 12 * 17, mass / 12 * 17, mass / 12 * 2])
-    A = np.array([0.5, 0.5, 2.0])
+    ns = _run_box(tmp_path, "SPRING(b, (1, 1, 4), -1, (1, 1, 5), [-1, -1e6, 1, 1e6])\n"
+                            "S0 = CRITICAL(perspring=1)\nDEM(0.002, 0.001)\nS1 = CRITICAL(perspring=1)\n")
+    mass, k, J, A = BOX_MASS, 1e6, BOX_J, BOX_ARM
     Ax = np.array([[0, -A[2], A[1]], [A[2], 0, -A[0]], [-A[1], A[0], 0]])
     Minv = np.eye(3) / mass + Ax @ np.linalg.inv(J) @ Ax.T
     c = np.cross(A, [0, 0, 1.0])

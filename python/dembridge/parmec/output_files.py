@@ -4,8 +4,8 @@ entities/modes of the last OUTPUT call without a subset (the seed's defaults if 
 .vtu frames named as Parmec names its files:
   PREFIXkrb   'RB'   every particle of the group (vertex at the mass centre)
   PREFIXksph  'SPH'  the SPHERE particles of the group (same arrays as RB, RADIUS for sphere glyphs)
-  PREFIXk     'MESH' boundary triangles of the MESH particles of the group (group 0: and the static
-                     obstacles; moving obstacles are not drawn, which OUTPUT says in a warning)
+  PREFIXk     'MESH' boundary triangles of the MESH particles of the group (group 0: and the obstacles,
+                     moving ones at the pose fix parmec/granular gives them: compute parmec/obstacles)
   PREFIXksl   'SL'   linear springs attached to a particle of the group (lines point1 -> point2)
   PREFIXkst   'ST'   torsion springs attached to a particle of the group (seed also says 'TS': accepted)
   PREFIXkjt   'JT'   ball joints attached to a particle of the group
@@ -13,7 +13,6 @@ entities/modes of the last OUTPUT call without a subset (the seed's defaults if 
 'attached'/'involving' = part1 or part2 (pair) is in the group, as Parmec selects springs for its files."""
 import math
 import os
-import warnings
 
 from . import vtk_constraints as vc
 from . import vtk_output
@@ -62,9 +61,19 @@ def contacts(rows):
     return out
 
 
-def static_obstacles(model):
-    """The obstacles that do not move (drawn in group 0's MESH files, as Parmec draws its obstacles)."""
-    return [ob for ob in model.obstacles if ob["point"] is None or (ob["linear"] is None and ob["angular"] is None)]
+def moving(ob):
+    return ob["point"] is not None and (ob["linear"] is not None or ob["angular"] is not None)
+
+
+def obstacles_at(model, rows):
+    """The obstacles of one frame as {triangles, colors}: static ones as defined, moving ones from compute
+    parmec/obstacles rows (obstacle, colour, 9 coordinates) of that step, or as defined before the first step."""
+    posed = {}
+    for r in rows:
+        ob = posed.setdefault(int(r[0]), {"triangles": [], "colors": []})
+        ob["triangles"].append(list(r[2:11]))
+        ob["colors"].append(int(r[1]))
+    return [posed.get(k, ob) if moving(ob) else ob for k, ob in enumerate(model.obstacles)]
 
 
 def _frame_writer(mode, model, ids, entities, idx):
@@ -76,13 +85,10 @@ def _frame_writer(mode, model, ids, entities, idx):
         want = [e for e in (entities or vtk_output.RB_ENTITIES)]
         return (lambda path, fr: vtk_output.rigid_body_frame(path, P, sel, fr["states"], want)), bool(sel)
     if mode == "MESH":
-        obs = static_obstacles(model) if idx == 0 else []
-        moving = [k for k, ob in enumerate(model.obstacles) if all(ob is not o for o in obs)]
-        if idx == 0 and moving:
-            warnings.warn(f"OUTPUT: the moving OBSTACLEs {moving} are not drawn in the MESH files (their pose lives "
-                          "in fix parmec/granular)", stacklevel=2)
-        return (lambda path, fr: vtk_output.mesh_frame(path, P, ids, fr["states"], entities, obs)), \
-            any(P[i].kind == "MESH" for i in ids) or bool(obs)
+        with_obstacles = idx == 0 and bool(model.obstacles)
+        return (lambda path, fr: vtk_output.mesh_frame(
+            path, P, ids, fr["states"], entities, obstacles_at(model, fr["obstacles"]) if with_obstacles else [])), \
+            any(P[i].kind == "MESH" for i in ids) or with_obstacles
     if mode == "SL":
         ks = vc.attached([(s["part1"], s["part2"]) for s in model.springs], ids)
         want = entities or vc.SL_ENTITIES

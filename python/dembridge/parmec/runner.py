@@ -129,6 +129,9 @@ class Runner:
         if contact:  # before the springs: Parmec adds the contact forces first
             self.cmd(f"fix G all parmec/granular start parmec color i_pmcolor{' quirks parmec' if m.quirks else ''} "
                      f"file {self.write('granular.def', self._granular())}")
+            if any(output_files.moving(ob) for ob in m.obstacles):
+                self.cmd("compute PO all parmec/obstacles G")  # moving obstacles' poses for OUTPUT 'MESH'
+
         if m.springs:
             self.cmd(f"fix S all parmec/spring start parmec inertia pmJ{' eqm parmec' if m.quirks else ''} "
                      f"file {self.write('springs.def', self._springs())}")
@@ -376,12 +379,14 @@ class Runner:
         wanted = {"particle": bool(groups),
                   "spring": any(r["kind"] == "spring" for r in m.histories) or ("SL" in modes and bool(m.springs)),
                   "torsion": any(r["kind"] == "torsion" for r in m.histories) or ("ST" in modes and bool(m.torsions)),
-                  "contact": "CD" in modes and m.contact_active()}
+                  "contact": "CD" in modes and m.contact_active(),
+                  "obstacle": "MESH" in modes and m.contact_active() and any(output_files.moving(o) for o in m.obstacles)}
         steps = sorted({s for s, _ in samples} | {s for s in frames if s > self.lammps_step})
         dumps = []
         if steps:
             final = self.lammps_step + nsteps + 10 ** 9
-            for name, style in (("P", "particle"), ("S", "spring"), ("T", "torsion"), ("C", "contact")):
+            for name, style in (("P", "particle"), ("S", "spring"), ("T", "torsion"), ("C", "contact"),
+                                ("O", "obstacle")):
                 if not wanted[style]:
                     continue
                 out = self.path(f"hist_{name}_{self.lammps_step}.dump")
@@ -398,8 +403,9 @@ class Runner:
                     self.cmd(f"dump D{name} pmH custom 1 {out} {cols}")
                     self.cmd(f"dump_modify D{name} sort id")
                 else:
-                    ncol, fid = {"spring": (7, "S"), "torsion": (16, "T"), "contact": (17, "G")}[style]
-                    self.cmd(f"dump D{name} all local 1 {out} " + " ".join(f"f_{fid}[{c}]" for c in range(1, ncol + 1)))
+                    ncol, fid = {"spring": (7, "f_S"), "torsion": (16, "f_T"), "contact": (17, "f_G"),
+                                 "obstacle": (11, "c_PO")}[style]
+                    self.cmd(f"dump D{name} all local 1 {out} " + " ".join(f"{fid}[{c}]" for c in range(1, ncol + 1)))
                 self.cmd(f"dump_modify D{name} every v_s{name}")
                 self.cmd(f"dump_modify D{name} format float %.17g")
                 dumps.append((name, style, out))
@@ -418,11 +424,11 @@ class Runner:
         for _ in range(nsteps):
             m.curtime += h
         keep = set(steps)
-        data = {style: _read_dump(out, keep, keyed=style != "contact") for _, style, out in dumps}
+        data = {style: _read_dump(out, keep, keyed=style not in ("contact", "obstacle")) for _, style, out in dumps}
         if any(r["kind"] == "joint" for r in m.histories) or (m.joints and "JT" in modes):
             data["joint"] = _read_joints(self.path("joints.csv"))
         for step, label in samples:
-            self._append_row(label, {st: data[st].get(step, {}) for st in data if st != "contact"})
+            self._append_row(label, {st: data[st].get(step, {}) for st in data if st not in ("contact", "obstacle")})
         if m.outputs:
             self._write_outputs(frames, data, prefix)
         return elapsed
@@ -444,7 +450,8 @@ class Runner:
                 "springs": {int(k): v for k, v in data.get("spring", {}).get(step, {}).items()},
                 "torsions": {int(k): v for k, v in data.get("torsion", {}).get(step, {}).items()},
                 "joints": data.get("joint", {}).get(step),
-                "contacts": output_files.contacts(data.get("contact", {}).get(step, []))}))
+                "contacts": output_files.contacts(data.get("contact", {}).get(step, [])),
+                "obstacles": data.get("obstacle", {}).get(step, [])}))
         if not hasattr(self, "_pvd"):
             self._pvd = {}
         output_files.write_vtk(base, m, series, self._pvd)

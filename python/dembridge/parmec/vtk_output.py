@@ -105,8 +105,9 @@ def rigid_body_frame(path, particles, ids, states, entities):
 
 
 def mesh_frame(path, particles, ids, states, entities, obstacles=()):
-    """One frame of the MESH particles among ids: boundary triangles at x + Λ(P − X); then the triangles of
-    the static obstacles given (NUMBER -1 as Parmec's triangle owner, zero DISPL and LINVEL)."""
+    """One frame of the MESH particles among ids: boundary triangles at x + Λ(P − X); first the triangles of
+    the obstacles given ({triangles, colors}: NUMBER -1 as Parmec's static-obstacle owner, zero DISPL and
+    LINVEL)."""
     pts, tris, number, color, displ, linvel = [], [], [], [], [], []
     want = set(entities or RB_ENTITIES)
     for ob in obstacles:

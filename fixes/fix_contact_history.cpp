@@ -8,13 +8,42 @@
 #include "neigh_list.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <unordered_map>
+
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
 
 using namespace LAMMPS_NS;
 using namespace LAMMPS_NS::FixConst;
 
 namespace dembridge {
+
+// The threads `package omp N` asks for share the per-rebuild conversions (results do not depend on it).
+static int conversion_threads(LAMMPS *lmp)
+{
+#if defined(_OPENMP)
+  return std::max(1, lmp->comm->nthreads);
+#else
+  (void)lmp;
+  return 1;
+#endif
+}
+
+// Runs body(t) for t in [0, nparts) on up to nparts threads; each t exactly once.
+template <class Body> static void for_each_part(int nparts, Body &&body)
+{
+#if defined(_OPENMP)
+#pragma omp parallel num_threads(nparts) if (nparts > 1)
+  {
+    for (int t = omp_get_thread_num(); t < nparts; t += omp_get_num_threads()) body(t);
+  }
+#else
+  for (int t = 0; t < nparts; t++) body(t);
+#endif
+}
 
 // NVALUES 0 is a placeholder: the pair style reserves its place in the fix order when pair_style
 // is read (fixes run in definition order, and the history must be converted before a later
@@ -113,10 +142,13 @@ void FixContactHistory::atoms_from_list()
   }
 
   // Two passes over the same traversal, count then fill (keeps each atom's partner order): each
-  // touched slot (i, jj) gives i its spring and the owned partner j the mirrored one.
+  // touched slot (i, jj) gives i its spring and the owned partner j the mirrored one. With threads,
+  // part t of the list rows counts, then fills, its own run of every atom's entries; runs of
+  // earlier parts come first, so the entries are those of one pass over the whole list, in order.
   const int *ilist = list_->ilist, *numneigh = list_->numneigh;
-  auto for_each_contact = [&](auto &&visit) {
-    for (int ii = 0; ii < list_->inum; ii++) {
+  const int inum = list_->inum;
+  auto for_each_contact = [&](int ii_begin, int ii_end, auto &&visit) {
+    for (int ii = ii_begin; ii < ii_end; ii++) {
       const int i = ilist[ii];
       const int *jlist = list_->firstneigh[i];
       for (int jj = 0; jj < numneigh[i]; jj++) {
@@ -127,16 +159,28 @@ void FixContactHistory::atoms_from_list()
       }
     }
   };
-  std::vector<int> count(nlocal, 0);
-  for_each_contact([&](int a, tagint, const double *, double) { count[a]++; });
+  const int nparts = std::min(conversion_threads(lmp), std::max(1, inum));
+  auto rows = [&](int t) { return int(std::int64_t(inum) * t / nparts); };
+  std::vector<std::size_t> next(std::size_t(nparts) * std::size_t(nlocal), 0);  // part t's count, then fill position, per atom
+  for_each_part(nparts, [&](int t) {
+    std::size_t *n = next.data() + std::size_t(t) * nlocal;
+    for_each_contact(rows(t), rows(t + 1), [&](int a, tagint, const double *, double) { n[a]++; });
+  });
   std::size_t total = 0;
   int most = 0;
   for (int a = 0; a < nlocal; a++) {
     offset_[a] = total;
-    npartner_[a] = 0;
     own_tag_[a] = tag[a];
-    total += count[a];
-    most = std::max(most, count[a]);
+    std::size_t count = 0;
+    for (int t = 0; t < nparts; t++) {
+      std::size_t &n = next[std::size_t(t) * nlocal + a];
+      const std::size_t part_count = n;
+      n = total + count;
+      count += part_count;
+    }
+    npartner_[a] = int(count);
+    total += count;
+    most = std::max(most, int(count));
   }
   // The old runs are not read again (the list-order slots hold the history): reuse the pool's
   // storage, released when it is more than twice what the contacts present need.
@@ -146,10 +190,13 @@ void FixContactHistory::atoms_from_list()
   }
   pool_tag_.resize(total);
   pool_val_.resize(total * nv_);
-  for_each_contact([&](int a, tagint partner, const double *v, double sign) {
-    const std::size_t k = offset_[a] + npartner_[a]++;
-    pool_tag_[k] = partner;
-    for (int m = 0; m < nv_; m++) pool_val_[k * nv_ + m] = sign * v[m];
+  for_each_part(nparts, [&](int t) {
+    std::size_t *pos = next.data() + std::size_t(t) * nlocal;
+    for_each_contact(rows(t), rows(t + 1), [&](int a, tagint partner, const double *v, double sign) {
+      const std::size_t k = pos[a]++;
+      pool_tag_[k] = partner;
+      for (int m = 0; m < nv_; m++) pool_val_[k * nv_ + m] = sign * v[m];
+    });
   });
   set_maxexchange(most);
   atoms_stale_ = false;
@@ -171,10 +218,18 @@ void FixContactHistory::list_from_atoms()
   // release the storage of a denser past (assign never shrinks a vector)
   if (values_.capacity() > 2 * total * nv_ + 4096) std::vector<double>().swap(values_);
   if (touch_.capacity() > 2 * total + 4096) std::vector<gran::TouchFlag>().swap(touch_);
-  values_.assign(total * nv_, 0.0);
-  touch_.assign(total, gran::TouchFlag::Separated);
-  for (int ii = 0; ii < list_->inum; ii++) {
+  // every slot belongs to one row, which clears it: rows are independent, shared by the threads
+  values_.resize(total * nv_);
+  touch_.resize(total);
+  const int inum = list_->inum;
+  [[maybe_unused]] const int nthreads = conversion_threads(lmp);  // used by the OpenMP pragma only
+#if defined(_OPENMP)
+#pragma omp parallel for num_threads(nthreads) schedule(static) if (nthreads > 1 && inum > 1)
+#endif
+  for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
+    std::fill_n(values_.begin() + first_[i] * nv_, std::size_t(numneigh[i]) * nv_, 0.0);
+    std::fill_n(touch_.begin() + first_[i], numneigh[i], gran::TouchFlag::Separated);
     if (npartner_[i] == 0) continue;
     const int *jlist = list_->firstneigh[i];
     const std::size_t base = offset_[i];

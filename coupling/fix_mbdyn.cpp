@@ -1072,7 +1072,7 @@ void FixMBDyn::post_force(int vflag)
     }
     last_iterations_ = it + 1;
   }
-  plain_average(loads, prev_avg_);
+  if (extrapolate_ && substeps_ > 1) plain_average(loads, prev_avg_);  // read only by the shift above
   prev_is_t0_ = false;
   poseA_.swap(poseB_);  // poseB_ is overwritten by the next message before it is read again
   substep_ = 0;

@@ -341,7 +341,9 @@ void FixParmecSpring::init()
   size_array_rows = static_cast<int>(defs_.size() + atom->natoms);
   check_run_style_and_ghosts("springs between two atoms need ghost velocities");
   const bool hasq = atom->quat_flag && atom->quat;
-  for (const SpringDef &d : defs_) {
+  for (SpringDef &d : defs_) {
+    d.arm1_zero = zero(d.arm1);
+    d.arm2_zero = d.tag2 < 0 || zero(d.arm2);
     const bool off = !zero(d.arm1) || (d.tag2 >= 0 && !zero(d.arm2));
     const bool moving_plane = d.mode == sp::DirectionMode::Plane && d.tag2 >= 0;
     if ((off || moving_plane) && !hasq)
@@ -385,8 +387,18 @@ void FixParmecSpring::evaluate(Mode mode)
 {
   const int nlocal = atom->nlocal;
   reset_sums();
-  if (refresh_plan()) incidence_current_ = false;
+  if (refresh_plan()) {
+    incidence_current_ = false;
+    hot_valid_ = false;
+  }
   const int total = first_[nlocal];  // evaluation index r = output row r (atoms ascending, their records in order)
+  if (mode != Mode::Commit) {
+    sync_records();  // trial and setup evaluations read the records
+  } else if (!hot_valid_) {
+    hot_.resize(total);
+    for (int r = 0; r < total; r++) hot_[r] = sp::SpringState::unpacked(plan_[r].slot + 1);
+    hot_valid_ = true;
+  }
   local_rows(total);
   if (static_cast<int>(results_.size()) < total) results_.resize(total);
 
@@ -420,6 +432,8 @@ void FixParmecSpring::evaluate(Mode mode)
 #else
   for (int r = 0; r < total; r++) flags |= evaluate_spring(ctx, r);
 #endif
+
+  if (mode == Mode::Commit) hot_dirty_ = true;
 
   // Phase 2, serial: failures in spring order, then the contributions.
   if (flags & kFailed)
@@ -476,16 +490,18 @@ void FixParmecSpring::evaluate(Mode mode)
 #endif
   for (int i = 0; i < nlocal; i++) {
     const state::LocalIncidence::Term *t0 = incidence_.begin(i), *t1 = incidence_.end(i);
-    double sum[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     if (sums_.empty(i)) {
       if (t0 == t1) continue;
+      double acc[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};  // its own array: it stays in registers
       for (const state::LocalIncidence::Term *t = t0; t != t1; ++t) {
         const SpringResult &res = results_[t->r];
         const double sign = t->side ? -1.0 : 1.0;
         const double *v = t->side ? res.ft2 : res.ft1;
-        for (int c = 0; c < 6; c++) sum[c] += sign * v[c];
+        for (int c = 0; c < 6; c++) acc[c] += sign * v[c];
       }
+      add_to_atom(i, acc);
     } else {
+      double sum[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
       state::OrderedSums::Term terms[state::OrderedSums::kMaxOrdered];
       int n = 0;
       for (const state::LocalIncidence::Term *t = t0; t != t1 && n < state::OrderedSums::kMaxOrdered; ++t) {
@@ -493,8 +509,8 @@ void FixParmecSpring::evaluate(Mode mode)
         terms[n++] = {t->key, t->side ? res.ft2 : res.ft1, t->side ? -1.0 : 1.0};
       }
       sums_.sum_with(i, terms, n, sum);
+      add_to_atom(i, sum);
     }
-    add_to_atom(i, sum);
   }
 }
 
@@ -505,6 +521,7 @@ bool FixParmecSpring::refresh_plan()
 {
   const int nlocal = atom->nlocal, nall = nlocal + atom->nghost;
   if (plan_generation_ == records_.generation() && plan_nlocal_ == nlocal && plan_nall_ == nall) return false;
+  sync_records();  // through the old plan: no record moved without a callback (which syncs first)
   first_.resize(nlocal + 1);
   first_[0] = 0;
   for (int i = 0; i < nlocal; i++) first_[i + 1] = first_[i] + records_.count(i);
@@ -516,6 +533,62 @@ bool FixParmecSpring::refresh_plan()
   plan_nlocal_ = nlocal;
   plan_nall_ = nall;
   return true;
+}
+
+// Pack the states advanced in hot_ into their records (plan order).
+void FixParmecSpring::sync_records() const
+{
+  if (!hot_dirty_) return;
+  for (std::size_t r = 0; r < hot_.size(); r++) hot_[r].pack(plan_[r].slot + 1);
+  hot_dirty_ = false;
+}
+
+void FixParmecSpring::grow_arrays(int nmax)
+{
+  sync_records();
+  PerAtomStateFix::grow_arrays(nmax);
+}
+
+void FixParmecSpring::copy_arrays(int i, int j, int delflag)
+{
+  sync_records();
+  PerAtomStateFix::copy_arrays(i, j, delflag);
+}
+
+void FixParmecSpring::set_arrays(int i)
+{
+  sync_records();
+  PerAtomStateFix::set_arrays(i);
+}
+
+int FixParmecSpring::pack_exchange(int i, double *buf)
+{
+  sync_records();
+  return PerAtomStateFix::pack_exchange(i, buf);
+}
+
+int FixParmecSpring::unpack_exchange(int nlocal, double *buf)
+{
+  sync_records();
+  return PerAtomStateFix::unpack_exchange(nlocal, buf);
+}
+
+int FixParmecSpring::pack_restart(int i, double *buf)
+{
+  sync_records();
+  return PerAtomStateFix::pack_restart(i, buf);
+}
+
+void FixParmecSpring::unpack_restart(int nlocal, int nth)
+{
+  sync_records();
+  PerAtomStateFix::unpack_restart(nlocal, nth);
+}
+
+void FixParmecSpring::end_of_step()
+{
+  sync_records();  // the history rows read the records
+  PerAtomStateFix::end_of_step();
 }
 
 // One spring (evaluation index r of the plan). Thread-safe: reads atoms and definitions, writes only its
@@ -578,7 +651,10 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
     q = d.arm2;
   }
 
-  sp::SpringState state = sp::SpringState::unpacked(slot + 1);
+  // Commit: the state advances in hot_; trial and setup evaluations work on a copy of the record's
+  sp::SpringState copy;
+  if (ctx.mode != Mode::Commit) copy = sp::SpringState::unpacked(slot + 1);
+  sp::SpringState &state = ctx.mode == Mode::Commit ? hot_[r] : copy;
   sp::Vec3 F = zero3;
   bool apply = true;
   double eqm = -1.0;
@@ -615,14 +691,15 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
       return flags | kFailed;
     }
     if (mode == Mode::Commit) {
-      state.pack(slot + 1);
       for (int c = 0; c < 3; c++) slot[kForce + c] = F[c];
       slot[kValid] = 1.0;
     }
   }
 
   if (apply) {
-    const sp::Vec3 ta = sp::cross(a, F);
+    // a centre attachment has no moment arm: its torque is exactly zero (+0 instead of cross()'s signed
+    // zeros; the same sums, which start at +0 and never come back to -0)
+    const sp::Vec3 ta = d.arm1_zero ? zero3 : sp::cross(a, F);
     res.apply = true;
     res.k = k;
     for (int c = 0; c < 3; c++) {
@@ -630,7 +707,7 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
       res.ft1[3 + c] = ta[c];
     }
     if (k >= 0) {
-      const sp::Vec3 tb = sp::cross(b, F);
+      const sp::Vec3 tb = d.arm2_zero ? zero3 : sp::cross(b, F);
       for (int c = 0; c < 3; c++) {
         res.ft2[c] = F[c];
         res.ft2[3 + c] = tb[c];
@@ -735,6 +812,7 @@ void FixParmecSpring::critical()
     }
     return b;
   };
+  sync_records();
   std::vector<double> mine, mine_rows;  // mine_rows: (table row, h, omega, xi)
   double hs = INFINITY;
   for (int i = 0; i < atom->nlocal; i++) {
@@ -888,18 +966,18 @@ inline double FixParmecSpring::spring_eqm(const EvalContext &c, const SpringDef 
     // equivalent_mass without the 3x3 matrices; equal to round-off)
     const double dd = sp::dot(dir, dir);
     double lambda = 0.0;
-    auto add = [&](int j, const sp::Vec3 &A) {
+    auto add = [&](int j, const sp::Vec3 &A, bool centre) {
       const double m = mass_of(j);
       lambda += dd / m;
-      if (zero(A)) return;  // a centre point: the term below is exactly 0 (finite directions)
+      if (centre) return;  // a centre point: the term below is exactly 0 (finite directions)
       const double J = c.radius ? 0.4 * m * c.radius[j] * c.radius[j] : 0.0;
       if (J > 0.0) {
         const double ad = sp::dot(A, dir);
         lambda += (sp::dot(A, A) * dd - ad * ad) / J;
       }
     };
-    add(i, d.arm1);
-    if (k >= 0) add(k, d.arm2);
+    add(i, d.arm1, d.arm1_zero);
+    if (k >= 0) add(k, d.arm2, d.arm2_zero);
     if (!(lambda > 0.0)) throw std::invalid_argument("EQM: the inverse mass matrix is not positive along the direction");
     return 1.0 / lambda;
   }
@@ -941,6 +1019,7 @@ int FixParmecSpring::spring_index(long spring_id) const
 // only after records moved (exchange, sort, restart), so lookups are O(1) otherwise.
 const double *FixParmecSpring::owned_slot(int spring) const
 {
+  sync_records();
   const auto w = where_.find(records_, atom->nlocal, static_cast<int>(defs_.size()), spring);
   return w.first >= 0 ? records_.record(w.first, w.second) : nullptr;
 }
@@ -977,6 +1056,7 @@ double FixParmecSpring::entity_value(int spring, Entity e) const
 
 void FixParmecSpring::gather_entity(Entity e, std::vector<double> &out)
 {
+  sync_records();
   std::vector<double> mine(defs_.size(), 0.0);
   if (e == Entity::EQM) {
     for (int r = 0; r < size_local_rows; r++) {
@@ -1000,6 +1080,7 @@ bool FixParmecSpring::set_state_code(int spring, int code)
   if (code < sp::kRegular) error->one(FLERR, cmd_ + ": set_state_code: code must be >= -3");
   double *slot = const_cast<double *>(owned_slot(spring));
   if (!slot) return false;
+  hot_valid_ = false;  // the next step reloads the states from the records
   sp::SpringState st;
   st.unpack(slot + 1);
   st.code = code;

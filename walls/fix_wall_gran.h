@@ -1,15 +1,14 @@
 // fix wall/gran: LIGGGHTS primitive and mesh walls with the pair styles' contact laws (spec
-// liggghts-walls). The geometry is PrimitiveWall / the mesh fixes, the physics gran::ContactLaw,
-// the per-contact history WallHistory; this class is the LAMMPS glue. LAMMPS's own
+// liggghts-walls). The geometry is PrimitiveWall / the mesh fixes, the physics gran::ContactLaw;
+// the per-contact history is a record list per atom (fixes/state: it follows the atom through
+// migration, sorting, deletion and restart files); this class is the LAMMPS glue. LAMMPS's own
 // `fix wall/gran` syntax never reaches it: the creator hands that to the built-in fix.
 // Documentation: doc/fix_wall_gran.md.
 #pragma once
 
-#include "fix.h"
-
 #include "contact_law.h"
 #include "material_table.h"
-#include "wall_history.h"
+#include "per_atom_records_fix.h"
 #include "wall_syntax.h"
 
 #include <string>
@@ -29,41 +28,34 @@ struct WallContactRecord {
   double hist[6];    // the contact's history after this evaluation (history_size() values)
 };
 
-class FixWallGran : public LAMMPS_NS::Fix {
+// The wall contacts of an atom (spec §3, §4.5): one record each, [key, history_size() values], in the
+// order they began. Key: 0 for a primitive wall, mesh index * 2^32 + triangle for a mesh wall.
+class FixWallGran : public state::PerAtomRecordsFix {
  public:
   FixWallGran(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
-  ~FixWallGran() override;
   int setmask() override;
   void init() override;
   void setup(int vflag) override;
   void post_force(int vflag) override;
 
-  double memory_usage() override;
-  void grow_arrays(int nmax) override;
-  void copy_arrays(int i, int j, int delflag) override;
-  void set_arrays(int i) override;
-  int pack_exchange(int i, double *buf) override;
-  int unpack_exchange(int nlocal, double *buf) override;
-  int pack_restart(int i, double *buf) override;
-  void unpack_restart(int nlocal, int nth) override;
-  int size_restart(int i) override;
-  int maxsize_restart() override;
-
   // compute wall/gran/local
   void request_records() { record_ = true; }
-  const std::vector<WallContactRecord> &records() const { return records_; }
-  int history_size() const { return history_.nvalues(); }
-  const walls::WallHistory &history() const { return history_; }
+  const std::vector<WallContactRecord> &records() const { return contact_rows_; }
+  int history_size() const { return records_.record_size() - 1; }
   bool is_mesh_wall() const { return spec_.is_mesh; }
 
  private:
-  std::string me_;  // "fix ID wall/gran" for messages
+  // The record size follows from the model: the arguments are parsed before the base is built.
+  FixWallGran(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg, walls::WallSpec spec);
+  static walls::WallSpec parse(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
   walls::WallSpec spec_;
   gran::ContactLaw law_;
   gran::MaterialTable table_;
-  walls::WallHistory history_;
+  int capacity_ = 1;  // wall contacts one atom may have at a time
   bool record_ = false;
-  std::vector<WallContactRecord> records_;
+  std::vector<WallContactRecord> contact_rows_;
+
+  void check_restored(int i) override;
 
   void check_wall_type(int type, const char *what);
   void primitive_pass(bool update);

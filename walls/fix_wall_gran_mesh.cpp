@@ -25,7 +25,7 @@ void FixWallGran::init_meshes()
 {
   meshes_.clear();
   for (const auto &mid : spec_.mesh_ids) {
-    FixMeshSurface *m = FixMeshSurface::find(lmp, mid, me_);
+    FixMeshSurface *m = FixMeshSurface::find(lmp, mid, cmd_);
     check_wall_type(m->wall_type(), ("type of mesh " + mid).c_str());
     meshes_.push_back(m);
   }
@@ -37,8 +37,11 @@ void FixWallGran::mesh_pass(bool update_history)
   const int *mask = atom->mask;
   double **x = atom->x;
   const double *radius = atom->radius;
-  const int cap = history_.capacity();
-  const int nv = history_.nvalues();
+  const int cap = capacity_;
+  const int nv = history_size();
+  // the key of atom i's s-th contact, and where its history values start
+  auto key_of = [this](int i, int s) { return records_.record(i, s)[0]; };
+  auto values_of = [this](int i, int s) { return records_.record(i, s) + 1; };
   const bool face_only = !spec_.model.contact.legacy_2x_expressions;  // 2.x: coplanar rules for every new contact (§11)
   kept_.assign(std::size_t(nlocal) * cap, 0);
   double fpw[3], vw[3], scratch[6] = {0, 0, 0, 0, 0, 0};
@@ -56,31 +59,32 @@ void FixWallGran::mesh_pass(bool update_history)
         const mesh::TriangleContact tc = ms->closest(t, x[i], radius[i]);
         if (!(tc.dist_minus_r <= 0.0)) continue;
         const double key = contact_key(m, t);
-        int slot = history_.find(i, key);
+        int slot = records_.find(i, key);
         if (slot < 0) {
           const bool face = !face_only || tc.kind == mesh::ContactKind::Face;
           if (face) {  // coplanar de-duplication: a flat neighbour already acts in this pass
             bool skip = false;
-            for (int s = 0; s < history_.count(i) && !skip; ++s) {
-              const double k2 = history_.key(i, s);
+            for (int s = 0; s < records_.count(i) && !skip; ++s) {
+              const double k2 = key_of(i, s);
               skip = kept[s] && key_mesh(k2) == m && key_tri(k2) != t && mesh.coplanar_node_neighbors(key_tri(k2), t);
             }
             if (skip) continue;
           }
-          slot = history_.add(i, key);
-          if (slot < 0)
-            error->one(FLERR, me_ + ": atom " + std::to_string(atom->tag[i]) + " touches more than " + std::to_string(cap) +
+          if (records_.count(i) >= cap)
+            error->one(FLERR, cmd_ + ": atom " + std::to_string(atom->tag[i]) + " touches more than " + std::to_string(cap) +
                                   " mesh triangles at once (mesh contact history overflow)");
+          records_.append(i, key);
+          slot = records_.count(i) - 1;
           if (face && nv > 0)  // carry the shear spring across a flat shared edge (last partner wins)
             for (int s = 0; s < slot; ++s) {
-              const double k2 = history_.key(i, s);
+              const double k2 = key_of(i, s);
               if (key_mesh(k2) == m && key_tri(k2) != t && mesh.coplanar_node_neighbors(key_tri(k2), t))
-                std::copy(history_.values(i, s), history_.values(i, s) + nv, history_.values(i, slot));
+                std::copy(values_of(i, s), values_of(i, s) + nv, values_of(i, slot));
             }
         }
         kept[slot] = 1;
         ms->wall_velocity(t, tc.bary, vw);
-        touch(i, gran::WallTouch{tc.dist_minus_r, tc.delta.data(), vw}, ms->wall_type(), nv ? history_.values(i, slot) : scratch,
+        touch(i, gran::WallTouch{tc.dist_minus_r, tc.delta.data(), vw}, ms->wall_type(), nv ? values_of(i, slot) : scratch,
               update_history, m, t, fpw);
         if (ms->stress_on() && (mask[i] & ms->groupbit)) {
           const double frc[3] = {-fpw[0], -fpw[1], -fpw[2]};
@@ -92,8 +96,8 @@ void FixWallGran::mesh_pass(bool update_history)
   }
   // Contacts not seen in this pass are over: their history goes at once (spec §4.5).
   for (int i = 0; i < nlocal; ++i)
-    for (int s = history_.count(i) - 1; s >= 0; --s)
-      if (!kept_[std::size_t(i) * cap + s]) history_.remove(i, s);
+    for (int s = records_.count(i) - 1; s >= 0; --s)
+      if (!kept_[std::size_t(i) * cap + s]) records_.remove(i, s);
 }
 
 }  // namespace dembridge

@@ -18,25 +18,13 @@ using namespace LAMMPS_NS;
 namespace dembridge::state {
 
 PerAtomStateFix::PerAtomStateFix(LAMMPS *lmp, int narg, char **arg, int record_size) :
-    Fix(lmp, narg, arg), cmd_(std::string("fix ") + arg[0] + " " + arg[2]), records_(record_size)
+    PerAtomRecordsFix(lmp, narg, arg, record_size)
 {
   restart_global = 1;
-  restart_peratom = 1;
-  create_attribute = 1;
-  maxexchange = 1;
-  grow_arrays(atom->nmax);
-  atom->add_callback(Atom::GROW);
-  atom->add_callback(Atom::RESTART);
 }
 
 PerAtomStateFix::~PerAtomStateFix()
 {
-  // Not when a derived constructor failed (an ERROR in the definitions): the fix was never stored, and
-  // delete_callback would ERROR inside a destructor (std::terminate) or hit a fix of the same ID.
-  if (modify->get_fix_by_id(id) == this) {
-    atom->delete_callback(id, Atom::GROW);
-    atom->delete_callback(id, Atom::RESTART);
-  }
   memory->destroy(array_local);
 }
 
@@ -56,7 +44,7 @@ void PerAtomStateFix::define_entities(const std::string &noun, const std::vector
     most = std::max(most, keys.size());
     if (atoms[key].second >= 0) two_atom_ = true;
   }
-  maxexchange = 1 + static_cast<int>(most) * records_.record_size();
+  set_records_per_atom(static_cast<int>(most));
   comm_reverse = sums_.configure(width, atoms);
 }
 
@@ -108,60 +96,11 @@ bool PerAtomStateFix::restored_record_fits(int i, const double *rec) const
   return key >= 0 && key < static_cast<long>(atoms_.size()) && atoms_[key].first == atom->tag[i];
 }
 
-// ---------------------------------------------------------------------------------------------------
-// records follow their atom
-
-void PerAtomStateFix::grow_arrays(int nmax)
+// Records read from a restart file must belong to the definitions.
+void PerAtomStateFix::check_restored(int i)
 {
-  records_.resize(nmax);
-}
-
-void PerAtomStateFix::copy_arrays(int i, int j, int)
-{
-  records_.copy(i, j);
-}
-
-void PerAtomStateFix::set_arrays(int i)
-{
-  records_.clear(i);
-}
-
-int PerAtomStateFix::pack_exchange(int i, double *buf)
-{
-  return records_.pack(i, buf);
-}
-
-int PerAtomStateFix::unpack_exchange(int nlocal, double *buf)
-{
-  return records_.unpack(nlocal, buf);
-}
-
-// Restart layout per atom: [total size, n, n values] (LAMMPS skips fixes by the total size).
-int PerAtomStateFix::size_restart(int i)
-{
-  return 1 + records_.packed_size(i);
-}
-
-int PerAtomStateFix::maxsize_restart()
-{
-  return 1 + maxexchange;
-}
-
-int PerAtomStateFix::pack_restart(int i, double *buf)
-{
-  const int n = records_.pack(i, buf + 1);
-  buf[0] = 1 + n;
-  return 1 + n;
-}
-
-void PerAtomStateFix::unpack_restart(int nlocal, int nth)
-{
-  const double *extra = atom->extra[nlocal];
-  int m = 0;
-  for (int k = 0; k < nth; k++) m += static_cast<int>(extra[m]);
-  records_.unpack(nlocal, extra + m + 1);
-  for (int r = 0; r < records_.count(nlocal); r++)
-    if (!restored_record_fits(nlocal, records_.record(nlocal, r)))
+  for (int r = 0; r < records_.count(i); r++)
+    if (!restored_record_fits(i, records_.record(i, r)))
       error->one(FLERR, fmt::format("{}: restart file holds {} states that do not match the definitions (define the "
                                     "same {}s in the same order as before write_restart)", cmd_, noun_, noun_));
 }
@@ -330,7 +269,7 @@ void PerAtomStateFix::end_of_step()
 
 double PerAtomStateFix::memory_usage()
 {
-  return records_.bytes(atom->nlocal) + sums_.bytes() + double(maxlocal_) * size_local_cols * sizeof(double);
+  return PerAtomRecordsFix::memory_usage() + sums_.bytes() + double(maxlocal_) * size_local_cols * sizeof(double);
 }
 
 // ---------------------------------------------------------------------------------------------------

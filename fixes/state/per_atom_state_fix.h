@@ -12,11 +12,10 @@
 
 #include "atom.h"
 #include "domain.h"
-#include "fix.h"
 
 #include "definition_reader.h"
 #include "ordered_sums.h"
-#include "record_lists.h"
+#include "per_atom_records_fix.h"
 
 #include <cstdio>
 #include <functional>
@@ -59,10 +58,9 @@ class HistoryCsv {
   std::vector<double> row_, sum_;
 };
 
-class PerAtomStateFix : public LAMMPS_NS::Fix {
+class PerAtomStateFix : public PerAtomRecordsFix {
  public:
-  // record_size: doubles per record, key included. Sets restart_peratom, restart_global,
-  // create_attribute and registers the GROW and RESTART callbacks.
+  // record_size: doubles per record, key included. Sets restart_global (PerAtomRecordsFix the rest).
   PerAtomStateFix(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg, int record_size);
   ~PerAtomStateFix() override;
 
@@ -75,22 +73,11 @@ class PerAtomStateFix : public LAMMPS_NS::Fix {
   void min_setup(int) override { evaluate(Mode::Trial); }
   void end_of_step() override;  // the history row
 
-  void grow_arrays(int nmax) override;
-  void copy_arrays(int i, int j, int delflag) override;
-  void set_arrays(int i) override;
-  int pack_exchange(int i, double *buf) override;
-  int unpack_exchange(int nlocal, double *buf) override;
-  int pack_restart(int i, double *buf) override;
-  void unpack_restart(int nlocal, int nth) override;
-  int size_restart(int i) override;
-  int maxsize_restart() override;
   int pack_reverse_comm(int n, int first, double *buf) override;
   void unpack_reverse_comm(int n, int *list, double *buf) override;
   double memory_usage() override;
 
  protected:
-  const std::string cmd_;  // "fix ID style", the prefix of every message
-  RecordLists records_;
   OrderedSums sums_;
 
   virtual void evaluate(Mode mode) = 0;
@@ -170,6 +157,7 @@ class PerAtomStateFix : public LAMMPS_NS::Fix {
   // Whether a record read from a restart file belongs to atom i (default: its key is an entity whose first
   // atom is i). Fixes whose records are created on the fly (contacts keyed by the partner) override it.
   virtual bool restored_record_fits(int i, const double *rec) const;
+  void check_restored(int i) override;
 };
 
 // Inline: evaluated for every two-atom entity every step (Atom::map is virtual; the array map is read

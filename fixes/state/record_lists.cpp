@@ -4,7 +4,7 @@
 
 namespace dembridge::state {
 
-double *RecordLists::append(int i, int key)
+double *RecordLists::append(int i, double key)
 {
   std::vector<double> &l = lists_[i];
   l.resize(l.size() + rs_, 0.0);
@@ -20,6 +20,22 @@ void RecordLists::erase(int i, int r)
   const std::size_t last = l.size() - rs_;
   if (std::size_t(r) * rs_ != last) std::copy(l.begin() + last, l.end(), l.begin() + std::size_t(r) * rs_);
   l.resize(last);
+  ++generation_;
+}
+
+int RecordLists::find(int i, double key) const
+{
+  const std::vector<double> &l = lists_[i];
+  for (std::size_t at = 0; at < l.size(); at += rs_)
+    if (l[at] == key) return static_cast<int>(at / rs_);
+  return -1;
+}
+
+void RecordLists::remove(int i, int r)
+{
+  std::vector<double> &l = lists_[i];
+  const auto first = l.begin() + std::size_t(r) * rs_;
+  l.erase(first, first + rs_);
   ++generation_;
 }
 

@@ -1,7 +1,8 @@
 // Per-atom lists of fixed-size state records (LAMMPS-free; doc/per_atom_state.md).
 //
 // Each atom holds any number of records of `record_size` doubles; element 0 of a record is its key (the
-// definition index of the spring, joint, restraint or wall contact it belongs to). The lists move with
+// definition index of the spring, joint or restraint, the partner of a contact, the wall element of a
+// wall contact). The lists move with
 // their atom: copy (sort, deletion), pack/unpack (exchange, restart). The layer never reads beyond the
 // key, so any fix with per-atom, per-entity state can keep it here.
 #pragma once
@@ -24,8 +25,12 @@ class RecordLists {
   int key(int i, int r) const { return static_cast<int>(lists_[i][std::size_t(r) * rs_]); }
 
   // A zeroed record with this key appended to atom i (pointer valid until atom i's list changes).
-  double *append(int i, int key);
-  void erase(int i, int r);  // the last record takes its place (order is not kept)
+  // Keys are whole numbers held exactly in a double (wall contacts use keys beyond int).
+  double *append(int i, double key);
+  // The first record of atom i with this key, or -1.
+  int find(int i, double key) const;
+  void erase(int i, int r);   // the last record takes its place (order is not kept)
+  void remove(int i, int r);  // the later records move up one place (order kept)
   void clear(int i);         // also frees the atom's memory
   void copy(int from, int to);
 

@@ -66,6 +66,43 @@ TEST(RecordLists, CopyClearAndEraseKeepTheOtherRecords)
   EXPECT_EQ(l.count(2), 0);
 }
 
+// Wall contacts: keys beyond int (mesh * 2^32 + triangle), found exactly; remove keeps the order the
+// contacts began in (the mesh pass's slots and its "last flat neighbour wins" depend on it).
+TEST(RecordLists, FindAndRemoveKeepTheOrderWithKeysBeyondInt)
+{
+  RecordLists l(3);
+  l.resize(2);
+  const double big = 3 * 4294967296.0 + 17;
+  const double keys[4] = {5.0, big, big + 1, 0.0};
+  for (int r = 0; r < 4; r++) {
+    double *rec = l.append(1, keys[r]);
+    EXPECT_EQ(rec[0], keys[r]);
+    EXPECT_EQ(rec[1], 0.0);
+    EXPECT_EQ(rec[2], 0.0);
+    rec[1] = r + 0.5;
+    rec[2] = -r - 0.25;
+  }
+  EXPECT_EQ(l.find(1, big), 1);
+  EXPECT_EQ(l.find(1, big + 1), 2);
+  EXPECT_EQ(l.find(1, 0.0), 3);
+  EXPECT_EQ(l.find(1, 7.0), -1);
+  EXPECT_EQ(l.find(0, 5.0), -1);
+  l.remove(1, 1);  // big goes; 5, big + 1, 0 stay in that order with their values
+  ASSERT_EQ(l.count(1), 3);
+  const double kept[3] = {5.0, big + 1, 0.0}, first[3] = {0.5, 2.5, 3.5};
+  for (int r = 0; r < 3; r++) {
+    EXPECT_EQ(l.record(1, r)[0], kept[r]);
+    EXPECT_EQ(l.record(1, r)[1], first[r]);
+  }
+  EXPECT_EQ(l.find(1, big), -1);
+  l.remove(1, 2);
+  l.remove(1, 0);
+  ASSERT_EQ(l.count(1), 1);
+  EXPECT_EQ(l.record(1, 0)[0], big + 1);
+  EXPECT_EQ(l.record(1, 0)[2], -2.25);
+  EXPECT_EQ(l.count(0), 0);
+}
+
 TEST(RecordIndex, FindsEachKeyAfterEveryMove)
 {
   RecordLists l = filled(9, 3);

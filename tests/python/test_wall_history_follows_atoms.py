@@ -160,3 +160,20 @@ def test_walkers_bitwise_equal_to_reference(reference, tmp_path, case):
     np.testing.assert_array_equal(walkers, ref_walkers)
     for wall in ("floor", "plate"):
         np.testing.assert_array_equal(contacts[wall], ref_contacts[wall])
+
+
+def test_restart_with_another_wall_model_is_refused(tmp_path):
+    """The restart file holds 7 values per wall contact (tangential + epsd rolling history); a wall fix
+    defined after read_restart with tangential history only (4 values per contact) must not read them as
+    garbage: ERROR naming the fix."""
+    if not os.path.isfile(dembridge.plugin_path()):
+        pytest.skip("plugin not built")
+    from test_bad_input import run_deck  # one fresh in-process LAMMPS, returns the ERROR text
+
+    shutil.copy(PLATE, tmp_path / "plate.stl")
+    run_lmp(tmp_path, _start(False, 0, 1) + ["run 200", "write_restart half.restart"], 1, name="in.first")
+    fixes = [l.replace(MODEL, "model hertz tangential history").replace("file plate.stl", f"file {tmp_path / 'plate.stl'}")
+             for l in _fixes(False)]
+    err = run_deck([f"read_restart {tmp_path / 'half.restart'}", "newton off"] + _settings(0) + fixes + ["run 1"])
+    assert err is not None
+    assert "fix floor wall/gran" in err and "not whole records of 4 values" in err and "define the fix as before" in err

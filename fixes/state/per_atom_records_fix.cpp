@@ -36,32 +36,38 @@ void PerAtomRecordsFix::set_records_per_atom(int most)
 
 void PerAtomRecordsFix::grow_arrays(int nmax)
 {
+  flush_records();
   records_.resize(nmax);
 }
 
 void PerAtomRecordsFix::copy_arrays(int i, int j, int)
 {
+  flush_records();
   records_.copy(i, j);
 }
 
 void PerAtomRecordsFix::set_arrays(int i)
 {
+  flush_records();
   records_.clear(i);
 }
 
 int PerAtomRecordsFix::pack_exchange(int i, double *buf)
 {
+  flush_records();
   return records_.pack(i, buf);
 }
 
 int PerAtomRecordsFix::unpack_exchange(int nlocal, double *buf)
 {
+  flush_records();
   return records_.unpack(nlocal, buf);
 }
 
 // Restart layout per atom: [total size, n, n values] (LAMMPS skips fixes by the total size).
 int PerAtomRecordsFix::size_restart(int i)
 {
+  flush_records();
   return 1 + records_.packed_size(i);
 }
 
@@ -72,6 +78,7 @@ int PerAtomRecordsFix::maxsize_restart()
 
 int PerAtomRecordsFix::pack_restart(int i, double *buf)
 {
+  flush_records();
   const int n = records_.pack(i, buf + 1);
   buf[0] = 1 + n;
   return 1 + n;
@@ -79,6 +86,7 @@ int PerAtomRecordsFix::pack_restart(int i, double *buf)
 
 void PerAtomRecordsFix::unpack_restart(int nlocal, int nth)
 {
+  flush_records();
   const double *extra = atom->extra[nlocal];
   int m = 0;
   for (int k = 0; k < nth; k++) m += static_cast<int>(extra[m]);

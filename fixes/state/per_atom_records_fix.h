@@ -39,6 +39,9 @@ class PerAtomRecordsFix : public LAMMPS_NS::Fix {
   // After atom i's records were read from a restart file: ERROR if they do not belong to this fix's
   // definitions (the layout itself is checked before).
   virtual void check_restored(int i) { (void)i; }
+  // Called first by every callback above (before records move, are packed, read or replaced): a fix that
+  // keeps its states elsewhere between steps writes them into the records here.
+  virtual void flush_records() {}
 };
 
 }  // namespace dembridge::state

@@ -260,6 +260,7 @@ void PerAtomStateFix::open_history(const DefinitionReader::History &request, con
 void PerAtomStateFix::end_of_step()
 {
   if (!history_.is_open()) return;
+  flush_records();
   history_.begin_row();
   for (int i = 0; i < atom->nlocal; i++)
     for (int r = 0; r < records_.count(i); r++)

@@ -7,18 +7,27 @@
 #pragma once
 
 #include "pair_gran_kernel.h"
+#include "pair_gran_scan.h"
+#include "pair_gran_lanes.h"
 
 #include <cmath>
+#include <cstdlib>
+#include <string_view>
 #include <type_traits>
 
 namespace dembridge::gran {
 namespace loop_detail {
 
-// Centre distances below 1e-12 of the radius sum count as coincident (squared here).
-constexpr double kCoincident = 1e-24;
-
 template <bool Hertz, bool History, bool LimitDamping> struct LammpsKernel {
   static constexpr bool kHistory = History;
+#ifdef DEMBRIDGE_HAVE_LANE_CONTACTS
+  static constexpr bool kLanes = true;  // four pairs at a time in the AVX2 loop (pair_gran_lanes.h)
+  [[gnu::always_inline]] static void lanes(const PairLoopData &d, const LammpsPairIn<Lanes4> &in, Lanes4 *shear,
+                                           LammpsPairOut<Lanes4> &out)
+  {
+    lammps_gran_law<Hertz, History, LimitDamping>(in, shear, d.history_update, d.dt, out);
+  }
+#endif
   [[gnu::always_inline]] static void touching(const PairLoopData &d, const SphereView &a, const SphereView &b, const double *del,
                                               double rsq, double meff, const PairCoeffs &pc, double *hist, ContactResult &out)
   {
@@ -29,6 +38,7 @@ template <bool Hertz, bool History, bool LimitDamping> struct LammpsKernel {
 
 template <NormalModel Normal, TangentialModel Tangential> struct LiggghtsKernel {
   static constexpr bool kHistory = true;  // rolling springs may need it whatever the tangential model
+  static constexpr bool kLanes = false;
   [[gnu::always_inline]] static void touching(const PairLoopData &d, const SphereView &a, const SphereView &b, const double *del,
                                               double rsq, double meff, const PairCoeffs &pc, double *hist, ContactResult &out)
   {
@@ -36,101 +46,89 @@ template <NormalModel Normal, TangentialModel Tangential> struct LiggghtsKernel 
   }
 };
 
-// A touching neighbour found by the scan: its list position, index and centre difference.
-struct Touching {
-  int jj, j;
-  double del[3], rsq;
-};
-constexpr int kBatch = 32;  // touching neighbours evaluated at a time (in list order)
-
-// The contact law on n touching neighbours of atom i, in list order.
-template <class Kernel, class Sink>
-[[gnu::always_inline]] inline PairLoopError contacts(const PairLoopData &d, int ii, int i, const Touching *batch, int n, Sink &sink)
-{
-  const double *x = d.x, *v = d.v, *omega = d.omega, *radius = d.radius, *rmass = d.rmass;
-  const int *type = d.type, *mask = d.mask;
-  const double *mass_rigid = d.mass_rigid;
-  const int freeze = d.freeze_groupbit, nv = d.nv;
-  const bool with_history = Kernel::kHistory && d.hist;
-  double scratch[6] = {0, 0, 0, 0, 0, 0};  // history of a model without any (never read)
-
-  const bool ifrozen = mask[i] & freeze;
-  const double mi = (mass_rigid && mass_rigid[i] > 0.0) ? mass_rigid[i] : rmass[i];
-  const SphereView a{x + 3 * i, v + 3 * i, omega + 3 * i, radius[i], mi};
-  double *hist_i = with_history ? d.hist + d.hist_first[i] * nv : nullptr;
-  TouchFlag *touch_i = with_history ? d.touch + d.hist_first[i] : nullptr;
-  const PairCoeffs *coeff_row = d.coeffs + type[i] * d.coeff_stride;
-
-  for (int c = 0; c < n; c++) {
-    const Touching &t = batch[c];
-    const int j = t.j, jj = t.jj;
-    const double radsum = a.radius + radius[j];
-    // coincident centres leave the contact normal undefined (the built-ins return NaN)
-    if (!(t.rsq > kCoincident * radsum * radsum)) return {PairLoopError::Coincident, i, j};
-    const double mj = (mass_rigid && mass_rigid[j] > 0.0) ? mass_rigid[j] : rmass[j];
-    double meff = mi * mj / (mi + mj);
-    if (ifrozen) meff = mj;
-    if (mask[j] & freeze) meff = mi;
-    if (!std::isfinite(meff)) return {PairLoopError::NoFiniteMass, i, j};
-    const SphereView b{x + 3 * j, v + 3 * j, omega + 3 * j, radius[j], mj};
-    double *hist = with_history ? hist_i + jj * nv : scratch;
-    ContactResult res;
-    Kernel::touching(d, a, b, t.del, t.rsq, meff, coeff_row[type[j]], hist, res);
-    if (with_history) touch_i[jj] = TouchFlag::Touching;
-    sink(i, j, ii, jj, res);
+// The contact law on the batch's pairs one at a time, in list order; empties the batch.
+struct ScalarContacts {
+  template <class Kernel, class Sink>
+  [[gnu::always_inline]] static PairLoopError run(const PairLoopData &d, Batch &batch, Sink &sink)
+  {
+    const double *x = d.x, *v = d.v, *omega = d.omega, *radius = d.radius, *rmass = d.rmass;
+    const int *type = d.type, *mask = d.mask;
+    const double *mass_rigid = d.mass_rigid;
+    const int freeze = d.freeze_groupbit, nv = d.nv;
+    const bool with_history = Kernel::kHistory && d.hist;
+    double scratch[6] = {0, 0, 0, 0, 0, 0};  // history of a model without any (never read)
+    const int n = batch.n;
+    batch.n = 0;
+    for (int c = 0; c < n; c++) {
+      const int i = batch.i[c], j = batch.j[c];
+      const double radsum = radius[i] + radius[j];
+      const double rsq = batch.rsq[c];
+      // coincident centres leave the contact normal undefined (the built-ins return NaN)
+      if (!(rsq > kCoincident * radsum * radsum)) return {PairLoopError::Coincident, i, j};
+      const double mi = (mass_rigid && mass_rigid[i] > 0.0) ? mass_rigid[i] : rmass[i];
+      const double mj = (mass_rigid && mass_rigid[j] > 0.0) ? mass_rigid[j] : rmass[j];
+      double meff = mi * mj / (mi + mj);
+      if (mask[i] & freeze) meff = mj;
+      if (mask[j] & freeze) meff = mi;
+      if (!std::isfinite(meff)) return {PairLoopError::NoFiniteMass, i, j};
+      const SphereView a{x + 3 * i, v + 3 * i, omega + 3 * i, radius[i], mi};
+      const SphereView b{x + 3 * j, v + 3 * j, omega + 3 * j, radius[j], mj};
+      double *hist = with_history ? d.hist + batch.slot[c] * nv : scratch;
+      const double del[3] = {batch.dx[c], batch.dy[c], batch.dz[c]};
+      ContactResult res;
+      Kernel::touching(d, a, b, del, rsq, meff, d.coeffs[type[i] * d.coeff_stride + type[j]], hist, res);
+      if (with_history) d.touch[batch.slot[c]] = TouchFlag::Touching;
+      sink(i, j, batch.ii[c], batch.jj[c], res);
+    }
+    return {};
   }
-  return {};
+};
+
+// pair_loop<Kernel>(d, ii_begin, ii_end, sink) with each scan (pair_gran_loop_body.inc): the
+// AVX2 one compiled for AVX2 (not FMA: the law's arithmetic stays that of the scalar build) and
+// chosen at run time. The body is included twice because GCC will not inline the AVX2 scan into
+// a function compiled for the baseline target.
+namespace scalar_scan {
+using Scan = ScalarScan;
+using Contacts = ScalarContacts;
+#include "pair_gran_loop_body.inc"
+}  // namespace scalar_scan
+
+#ifdef DEMBRIDGE_HAVE_AVX2_SCAN
+#pragma GCC push_options
+#pragma GCC target("avx2")
+namespace avx2_scan {
+using Scan = Avx2Scan;
+#ifdef DEMBRIDGE_HAVE_LANE_CONTACTS
+using Contacts = LaneContacts<ScalarContacts>;
+#else
+using Contacts = ScalarContacts;
+#endif
+#include "pair_gran_loop_body.inc"
+}  // namespace avx2_scan
+#pragma GCC pop_options
+#endif
+
+// AVX2 when the CPU has it, unless DEMBRIDGE_PAIR_SCAN=scalar (tests compare the two).
+inline bool use_avx2_scan()
+{
+#ifdef DEMBRIDGE_HAVE_AVX2_SCAN
+  static const bool use = [] {
+    const char *env = std::getenv("DEMBRIDGE_PAIR_SCAN");
+    return __builtin_cpu_supports("avx2") && !(env && std::string_view(env) == "scalar");
+  }();
+  return use;
+#else
+  return false;
+#endif
 }
 
-// Two passes per atom i: a tight scan of the neighbours for overlaps (most entries are not in
-// contact; it also clears the springs of separated pairs), then the contact law on the touching
-// ones, in list order, so every force is summed in the order of a single pass. Keeping the law
-// out of the scan frees the registers the scan needs (-30 % instructions on the chute).
-template <class Kernel, class Sink>
-PairLoopError pair_loop(const PairLoopData &data, int ii_begin, int ii_end, Sink &sink)
+template <class Kernel, class Sink> PairLoopError pair_loop(const PairLoopData &d, int ii_begin, int ii_end, Sink &sink)
 {
-  const PairLoopData d = data;  // a local copy: stores to f or the history cannot alias it
-  const double *x = d.x, *radius = d.radius;
-  const int *type = d.type;
-  const int nv = d.nv, neighmask = d.neighmask, max_type = d.max_type;
-  const bool with_history = Kernel::kHistory && d.hist;
-  const bool clear_separated = with_history && d.clear_separated;
-  Touching batch[kBatch];
-
-  for (int ii = ii_begin; ii < ii_end; ii++) {
-    const int i = d.ilist[ii];
-    if (type[i] > max_type) return {PairLoopError::TypeAfterInit, i, -1};
-    const int jnum = d.numneigh[i];
-    const int *jlist = d.firstneigh[i];
-    const double xi = x[3 * i], yi = x[3 * i + 1], zi = x[3 * i + 2], radi = radius[i];
-    TouchFlag *touch_i = clear_separated ? d.touch + d.hist_first[i] : nullptr;
-    int jj = 0;
-    while (jj < jnum) {
-      int n = 0;
-      for (; jj < jnum && n < kBatch; jj++) {
-        const int j = jlist[jj] & neighmask;
-        const double *xj = x + 3 * std::size_t(j);
-        const double delx = xi - xj[0], dely = yi - xj[1], delz = zi - xj[2];
-        const double radsum = radi + radius[j];
-        const double rsq = delx * delx + dely * dely + delz * delz;
-        if (rsq < radsum * radsum) {
-          batch[n++] = {jj, j, {delx, dely, delz}, rsq};
-        } else if (clear_separated && touch_i[jj] == TouchFlag::Touching) {
-          // 2.x and LAMMPS: the springs vanish on separation. 3.8 clears them only on a neighbour
-          // rebuild step: until then a separated pair keeps them (kept 'touched', so a rebuild
-          // carries them) and a contact resuming meanwhile continues with the old springs.
-          touch_i[jj] = TouchFlag::Separated;  // the history fix drops untouched springs at the next neighbour rebuild
-          double *h = d.hist + (d.hist_first[i] + jj) * nv;
-          for (int k = 0; k < nv; k++) h[k] = 0.0;
-        }
-      }
-      if (n) {
-        const PairLoopError e = contacts<Kernel>(d, ii, i, batch, n, sink);
-        if (e.kind != PairLoopError::None) return e;
-      }
-    }
-  }
-  return {};
+#ifdef DEMBRIDGE_HAVE_AVX2_SCAN
+  if (use_avx2_scan()) return avx2_scan::pair_loop<Kernel>(d, ii_begin, ii_end, sink);
+#endif
+  return scalar_scan::pair_loop<Kernel>(d, ii_begin, ii_end, sink);
 }
 
 }  // namespace loop_detail

@@ -7,6 +7,7 @@
 #include "contact_config.h"
 #include "contact_geometry.h"
 #include "contact_result.h"
+#include "lane_math.h"
 #include "pair_coeffs.h"
 
 #include <algorithm>
@@ -14,76 +15,107 @@
 
 namespace dembridge::gran {
 
-// One touching pair of the LAMMPS laws, with the neighbour loop's del = x_i - x_j and rsq reused.
-// Hertz, History and LimitDamping are template arguments so that the neighbour loop has no
-// run-time switch per contact (issue 12: the kernel the pair and omp styles call).
-template <bool Hertz, bool History, bool LimitDamping>
-[[gnu::always_inline]] inline void lammps_gran_touching(const SphereView &a, const SphereView &b, double delx, double dely, double delz,
-                                                     double rsq, double meff, const PairCoeffs &pc, double *shear, bool update,
-                                                     double dt, ContactResult &out)
-{
-  const double radi = a.radius, radj = b.radius, radsum = radi + radj;
-  const double r = std::sqrt(rsq), rinv = 1.0 / r, rsqinv = 1.0 / rsq;
-  const double vr1 = a.v[0] - b.v[0], vr2 = a.v[1] - b.v[1], vr3 = a.v[2] - b.v[2];
-  const double vnnr = vr1 * delx + vr2 * dely + vr3 * delz;
-  const double vt1 = vr1 - delx * vnnr * rsqinv, vt2 = vr2 - dely * vnnr * rsqinv, vt3 = vr3 - delz * vnnr * rsqinv;
-  const double wr1 = (radi * a.omega[0] + radj * b.omega[0]) * rinv;
-  const double wr2 = (radi * a.omega[1] + radj * b.omega[1]) * rinv;
-  const double wr3 = (radi * a.omega[2] + radj * b.omega[2]) * rinv;
+// What the LAMMPS laws read of one touching pair (R = double), or of four (R = Lanes4, one pair
+// per lane; lane_math.h): del = x_i - x_j and its square from the neighbour loop's overlap test.
+template <class R> struct LammpsPairIn {
+  R delx, dely, delz, rsq;
+  R radi, radj;
+  R vi[3], vj[3], wi[3], wj[3];  // velocities and angular velocities
+  R meff;
+  R kn, kt, gamman, gammat, mu;  // PairCoeffs of the type pair
+};
+template <class R> struct LammpsPairOut {
+  R F[3], Ti[3], Tj[3], Fn, Ft[3], delta;  // as ContactResult
+};
 
-  const double damp = meff * pc.gamman * vnnr * rsqinv;
-  double ccel = pc.kn * (radsum - r) * rinv - damp;
-  double polyhertz = 1.0;
+// The law, written once over the number type R. Hertz, History and LimitDamping are template
+// arguments so that the neighbour loop has no run-time switch per contact (issue 12). Branches on
+// per-pair values are lane_select for Lanes4, and plain branches for double (which skip the slip
+// divisions of sticking contacts); both compute the same expressions in the same order.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"  // R = Lanes4 is only ever inlined into AVX2 code (lane_math.h)
+template <bool Hertz, bool History, bool LimitDamping, class R>
+[[gnu::always_inline]] inline void lammps_gran_law(const LammpsPairIn<R> &in, R *shear, bool update, double dt, LammpsPairOut<R> &out)
+{
+  constexpr bool kScalar = std::is_same_v<R, double>;
+  const R delx = in.delx, dely = in.dely, delz = in.delz, rsq = in.rsq;
+  const R radi = in.radi, radj = in.radj, radsum = radi + radj;
+  const R r = lane_sqrt(rsq), rinv = 1.0 / r, rsqinv = 1.0 / rsq;
+  const R vr1 = in.vi[0] - in.vj[0], vr2 = in.vi[1] - in.vj[1], vr3 = in.vi[2] - in.vj[2];
+  const R vnnr = vr1 * delx + vr2 * dely + vr3 * delz;
+  const R vt1 = vr1 - delx * vnnr * rsqinv, vt2 = vr2 - dely * vnnr * rsqinv, vt3 = vr3 - delz * vnnr * rsqinv;
+  const R wr1 = (radi * in.wi[0] + radj * in.wj[0]) * rinv;
+  const R wr2 = (radi * in.wi[1] + radj * in.wj[1]) * rinv;
+  const R wr3 = (radi * in.wi[2] + radj * in.wj[2]) * rinv;
+
+  const R damp = in.meff * in.gamman * vnnr * rsqinv;
+  R ccel = in.kn * (radsum - r) * rinv - damp;
+  R polyhertz = lane_splat(1.0, r);
   if constexpr (Hertz) {
-    polyhertz = std::sqrt((radsum - r) * radi * radj / radsum);
+    polyhertz = lane_sqrt((radsum - r) * radi * radj / radsum);
     ccel *= polyhertz;
   }
-  if (LimitDamping && ccel < 0.0) ccel = 0.0;
+  if constexpr (LimitDamping) ccel = lane_select(ccel < 0.0, lane_splat(0.0, r), ccel);
 
-  const double vtr1 = vt1 - (delz * wr2 - dely * wr3);
-  const double vtr2 = vt2 - (delx * wr3 - delz * wr1);
-  const double vtr3 = vt3 - (dely * wr1 - delx * wr2);
+  const R vtr1 = vt1 - (delz * wr2 - dely * wr3);
+  const R vtr2 = vt2 - (delx * wr3 - delz * wr1);
+  const R vtr3 = vt3 - (dely * wr1 - delx * wr2);
 
-  double fs1, fs2, fs3;
+  R fs1, fs2, fs3;
   if constexpr (History) {
     if (update) {
       shear[0] += vtr1 * dt;
       shear[1] += vtr2 * dt;
       shear[2] += vtr3 * dt;
     }
-    const double shrmag = std::sqrt(shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]);
+    const R shrmag = lane_sqrt(shear[0] * shear[0] + shear[1] * shear[1] + shear[2] * shear[2]);
     // rotate the shear displacement into the current tangent plane
-    const double rsht = (shear[0] * delx + shear[1] * dely + shear[2] * delz) * rsqinv;
+    const R rsht = (shear[0] * delx + shear[1] * dely + shear[2] * delz) * rsqinv;
     if (update) {
       shear[0] -= rsht * delx;
       shear[1] -= rsht * dely;
       shear[2] -= rsht * delz;
     }
-    const double mg = meff * pc.gammat;
-    fs1 = -polyhertz * (pc.kt * shear[0] + mg * vtr1);
-    fs2 = -polyhertz * (pc.kt * shear[1] + mg * vtr2);
-    fs3 = -polyhertz * (pc.kt * shear[2] + mg * vtr3);
+    const R mg = in.meff * in.gammat;
+    fs1 = -polyhertz * (in.kt * shear[0] + mg * vtr1);
+    fs2 = -polyhertz * (in.kt * shear[1] + mg * vtr2);
+    fs3 = -polyhertz * (in.kt * shear[2] + mg * vtr3);
     // Coulomb check on the total (spring + damping) force; slip rescales the spring
-    const double fs = std::sqrt(fs1 * fs1 + fs2 * fs2 + fs3 * fs3);
-    const double fn = pc.mu * std::fabs(ccel * r);
-    if (fs > fn) {
-      if (shrmag != 0.0) {
-        const double ratio = fn / fs;
-        shear[0] = ratio * (shear[0] + mg * vtr1 / pc.kt) - mg * vtr1 / pc.kt;
-        shear[1] = ratio * (shear[1] + mg * vtr2 / pc.kt) - mg * vtr2 / pc.kt;
-        shear[2] = ratio * (shear[2] + mg * vtr3 / pc.kt) - mg * vtr3 / pc.kt;
-        fs1 *= ratio;
-        fs2 *= ratio;
-        fs3 *= ratio;
-      } else {
-        fs1 = fs2 = fs3 = 0.0;
+    const R fs = lane_sqrt(fs1 * fs1 + fs2 * fs2 + fs3 * fs3);
+    const R fn = in.mu * lane_fabs(ccel * r);
+    const R vtr[3] = {vtr1, vtr2, vtr3};
+    auto slip_spring = [&](const R &ratio, int k, R &spring) { spring = ratio * (shear[k] + mg * vtr[k] / in.kt) - mg * vtr[k] / in.kt; };
+    if constexpr (kScalar) {
+      if (fs > fn) {
+        if (shrmag != 0.0) {
+          const double ratio = fn / fs;
+          for (int k = 0; k < 3; k++) slip_spring(ratio, k, shear[k]);
+          fs1 *= ratio;
+          fs2 *= ratio;
+          fs3 *= ratio;
+        } else {
+          fs1 = fs2 = fs3 = 0.0;
+        }
       }
+    } else {
+      const auto slip = fs > fn, spring = shrmag != 0.0;
+      const R ratio = fn / fs, zero = lane_splat(0.0, r);
+      for (int k = 0; k < 3; k++) {
+        R slipped;
+        slip_spring(ratio, k, slipped);
+        shear[k] = lane_select(slip & spring, slipped, shear[k]);
+      }
+      fs1 = lane_select(slip, lane_select(spring, fs1 * ratio, zero), fs1);
+      fs2 = lane_select(slip, lane_select(spring, fs2 * ratio, zero), fs2);
+      fs3 = lane_select(slip, lane_select(spring, fs3 * ratio, zero), fs3);
     }
   } else {
-    const double vrel = std::sqrt(vtr1 * vtr1 + vtr2 * vtr2 + vtr3 * vtr3);
-    const double fn = pc.mu * std::fabs(ccel * r);
-    const double fs = meff * pc.gammat * vrel;
-    const double ft = vrel != 0.0 ? std::min(fn, fs) / vrel : 0.0;
+    const R vrel = lane_sqrt(vtr1 * vtr1 + vtr2 * vtr2 + vtr3 * vtr3);
+    const R fn = in.mu * lane_fabs(ccel * r);
+    const R fs = in.meff * in.gammat * vrel;
+    R ft;
+    if constexpr (kScalar) ft = vrel != 0.0 ? std::min(fn, fs) / vrel : 0.0;
+    else ft = lane_select(vrel != 0.0, lane_min(fn, fs) / vrel, lane_splat(0.0, r));
     fs1 = -ft * vtr1;
     fs2 = -ft * vtr2;
     fs3 = -ft * vtr3;
@@ -92,9 +124,9 @@ template <bool Hertz, bool History, bool LimitDamping>
   out.F[0] = delx * ccel + fs1;
   out.F[1] = dely * ccel + fs2;
   out.F[2] = delz * ccel + fs3;
-  const double tor1 = rinv * (dely * fs3 - delz * fs2);
-  const double tor2 = rinv * (delz * fs1 - delx * fs3);
-  const double tor3 = rinv * (delx * fs2 - dely * fs1);
+  const R tor1 = rinv * (dely * fs3 - delz * fs2);
+  const R tor2 = rinv * (delz * fs1 - delx * fs3);
+  const R tor3 = rinv * (delx * fs2 - dely * fs1);
   out.Ti[0] = -radi * tor1;
   out.Ti[1] = -radi * tor2;
   out.Ti[2] = -radi * tor3;
@@ -106,6 +138,29 @@ template <bool Hertz, bool History, bool LimitDamping>
   out.Ft[1] = fs2;
   out.Ft[2] = fs3;
   out.delta = radsum - r;
+}
+#pragma GCC diagnostic pop
+
+// One touching pair (scalar): the law on SphereViews, its history in shear[0..2].
+template <bool Hertz, bool History, bool LimitDamping>
+[[gnu::always_inline]] inline void lammps_gran_touching(const SphereView &a, const SphereView &b, double delx, double dely, double delz,
+                                                     double rsq, double meff, const PairCoeffs &pc, double *shear, bool update,
+                                                     double dt, ContactResult &out)
+{
+  const LammpsPairIn<double> in{delx, dely, delz, rsq, a.radius, b.radius,
+                                {a.v[0], a.v[1], a.v[2]}, {b.v[0], b.v[1], b.v[2]},
+                                {a.omega[0], a.omega[1], a.omega[2]}, {b.omega[0], b.omega[1], b.omega[2]},
+                                meff, pc.kn, pc.kt, pc.gamman, pc.gammat, pc.mu};
+  LammpsPairOut<double> o;
+  lammps_gran_law<Hertz, History, LimitDamping>(in, shear, update, dt, o);
+  for (int k = 0; k < 3; k++) {
+    out.F[k] = o.F[k];
+    out.Ti[k] = o.Ti[k];
+    out.Tj[k] = o.Tj[k];
+    out.Ft[k] = o.Ft[k];
+  }
+  out.Fn = o.Fn;
+  out.delta = o.delta;
 }
 
 

@@ -1,0 +1,150 @@
+// The contact law on a batch of touching pairs four at a time (the AVX2 loop of
+// pair_gran_loop.h, LAMMPS laws): each pair's atom data is gathered into one lane, the law
+// (lammps_gran_law over Lanes4, contact/lammps_models.h) runs lane-wise with the IEEE operations of
+// the scalar code and no FMA, and the results go to the sink one pair at a time in list order, so
+// forces are summed as in the scalar loop and results stay bit-identical (issue 12, P2).
+#pragma once
+
+#include "pair_gran_kernel.h"
+#include "pair_gran_scan.h"
+
+#include <cstdint>
+#include <immintrin.h>
+#include <limits>
+
+namespace dembridge::gran::loop_detail {
+
+#if defined(DEMBRIDGE_HAVE_AVX2_SCAN) && defined(DEMBRIDGE_HAVE_LANES4)
+#define DEMBRIDGE_HAVE_LANE_CONTACTS 1
+
+// Fallback: the per-pair evaluation, for the kernels without a lane form (Kernel::kLanes false).
+template <class Fallback> struct LaneContacts {
+  [[gnu::always_inline, gnu::target("avx2")]] static Lanes4 gather(const double *base, __m128i idx)
+  {
+    return _mm256_mask_i32gather_pd(_mm256_setzero_pd(), base, idx, _mm256_castsi256_pd(_mm256_set1_epi64x(-1)), 8);
+  }
+  [[gnu::always_inline, gnu::target("avx2")]] static __m128i gather(const int *base, __m128i idx)
+  {
+    return _mm_mask_i32gather_epi32(_mm_setzero_si128(), base, idx, _mm_set1_epi32(-1), 4);
+  }
+  [[gnu::always_inline, gnu::target("avx2")]] static Lanes4 gather64(const double *base, __m256i idx)
+  {
+    return _mm256_mask_i64gather_pd(_mm256_setzero_pd(), base, idx, _mm256_castsi256_pd(_mm256_set1_epi64x(-1)), 8);
+  }
+  // the int lanes as 64-bit masks: -1 where the value is nonzero
+  [[gnu::always_inline, gnu::target("avx2")]] static LaneMask4 nonzero(__m128i v)
+  {
+    return (LaneMask4)_mm256_cvtepi32_epi64(v) != 0;
+  }
+  [[gnu::always_inline, gnu::target("avx2")]] static unsigned bits(LaneMask4 m) { return unsigned(_mm256_movemask_pd((__m256d)m)); }
+
+  template <class Kernel, class Sink>
+  [[gnu::always_inline, gnu::target("avx2")]] static PairLoopError run(const PairLoopData &d, Batch &b, Sink &sink)
+  {
+    if constexpr (!Kernel::kLanes) {
+      return Fallback::template run<Kernel>(d, b, sink);
+    } else {
+      const int n = b.n, n4 = (n + 3) & ~3;
+      b.n = 0;
+      for (int c = n; c < n4; c++) {  // padding lanes: copies of the last pair (results unused)
+        b.dx[c] = b.dx[n - 1];
+        b.dy[c] = b.dy[n - 1];
+        b.dz[c] = b.dz[n - 1];
+        b.rsq[c] = b.rsq[n - 1];
+        b.slot[c] = b.slot[n - 1];
+        b.i[c] = b.i[n - 1];
+        b.j[c] = b.j[n - 1];
+      }
+      const bool with_history = Kernel::kHistory && d.hist;
+      constexpr int kF = 0, kTi = 3, kTj = 6, kFn = 9, kFt = 10, kDelta = 13, kShear = 14, kOut = 17;
+      alignas(32) double out[kOut][Batch::kCapacity];
+      static_assert(sizeof(PairCoeffs) % sizeof(double) == 0);
+      const __m128i coeff_stride = _mm_set1_epi32(d.coeff_stride), coeff_doubles = _mm_set1_epi32(int(sizeof(PairCoeffs) / sizeof(double)));
+      const __m128i freeze = _mm_set1_epi32(d.freeze_groupbit);
+      const __m256i nv = _mm256_set1_epi64x(d.nv);
+      for (int c = 0; c < n4; c += 4) {
+        const __m128i iv = _mm_load_si128(reinterpret_cast<const __m128i *>(b.i + c));
+        const __m128i jv = _mm_load_si128(reinterpret_cast<const __m128i *>(b.j + c));
+        const __m128i i3 = _mm_add_epi32(iv, _mm_add_epi32(iv, iv)), j3 = _mm_add_epi32(jv, _mm_add_epi32(jv, jv));
+        LammpsPairIn<Lanes4> in;
+        in.delx = _mm256_load_pd(b.dx + c);
+        in.dely = _mm256_load_pd(b.dy + c);
+        in.delz = _mm256_load_pd(b.dz + c);
+        in.rsq = _mm256_load_pd(b.rsq + c);
+        in.radi = gather(d.radius, iv);
+        in.radj = gather(d.radius, jv);
+        const Lanes4 radsum = in.radi + in.radj;
+        // coincident centres leave the contact normal undefined (the built-ins return NaN)
+        const unsigned coincident = ~bits(in.rsq > kCoincident * radsum * radsum) & 0xF;
+        Lanes4 mi = gather(d.rmass, iv), mj = gather(d.rmass, jv);
+        if (d.mass_rigid) {
+          const Lanes4 bi = gather(d.mass_rigid, iv), bj = gather(d.mass_rigid, jv);
+          mi = lane_select(bi > 0.0, bi, mi);
+          mj = lane_select(bj > 0.0, bj, mj);
+        }
+        Lanes4 meff = mi * mj / (mi + mj);
+        if (d.freeze_groupbit) {
+          meff = lane_select(nonzero(_mm_and_si128(gather(d.mask, iv), freeze)), mj, meff);
+          meff = lane_select(nonzero(_mm_and_si128(gather(d.mask, jv), freeze)), mi, meff);
+        }
+        const unsigned infinite = ~bits(lane_fabs(meff) <= std::numeric_limits<double>::max()) & 0xF;
+        if (coincident | infinite) {
+          const int k = __builtin_ctz(coincident | infinite);
+          return {(coincident >> k) & 1 ? PairLoopError::Coincident : PairLoopError::NoFiniteMass, b.i[c + k], b.j[c + k]};
+        }
+        in.meff = meff;
+        for (int k = 0; k < 3; k++) {
+          in.vi[k] = gather(d.v + k, i3);
+          in.vj[k] = gather(d.v + k, j3);
+          in.wi[k] = gather(d.omega + k, i3);
+          in.wj[k] = gather(d.omega + k, j3);
+        }
+        const __m128i pair_type = _mm_add_epi32(_mm_mullo_epi32(gather(d.type, iv), coeff_stride), gather(d.type, jv));
+        const __m128i coeff = _mm_mullo_epi32(pair_type, coeff_doubles);
+        in.kn = gather(&d.coeffs->kn, coeff);
+        in.kt = gather(&d.coeffs->kt, coeff);
+        in.gamman = gather(&d.coeffs->gamman, coeff);
+        in.gammat = gather(&d.coeffs->gammat, coeff);
+        in.mu = gather(&d.coeffs->mu, coeff);
+        Lanes4 shear[3] = {{0, 0, 0, 0}, {0, 0, 0, 0}, {0, 0, 0, 0}};
+        if (with_history) {  // slot * nv: slots are below 2^32 (neighbour-list entries of one rank)
+          const __m256i first = _mm256_mul_epu32(_mm256_load_si256(reinterpret_cast<const __m256i *>(b.slot + c)), nv);
+          for (int k = 0; k < 3; k++) shear[k] = gather64(d.hist + k, first);
+        }
+        LammpsPairOut<Lanes4> o;
+        Kernel::lanes(d, in, shear, o);
+        for (int k = 0; k < 3; k++) {
+          _mm256_store_pd(out[kF + k] + c, o.F[k]);
+          _mm256_store_pd(out[kTi + k] + c, o.Ti[k]);
+          _mm256_store_pd(out[kTj + k] + c, o.Tj[k]);
+          _mm256_store_pd(out[kFt + k] + c, o.Ft[k]);
+        }
+        _mm256_store_pd(out[kFn] + c, o.Fn);
+        _mm256_store_pd(out[kDelta] + c, o.delta);
+        if (with_history)
+          for (int k = 0; k < 3; k++) _mm256_store_pd(out[kShear + k] + c, shear[k]);
+      }
+      for (int c = 0; c < n; c++) {
+        if (with_history) {
+          double *h = d.hist + b.slot[c] * d.nv;
+          for (int k = 0; k < 3; k++) h[k] = out[kShear + k][c];
+          d.touch[b.slot[c]] = TouchFlag::Touching;
+        }
+        ContactResult res;
+        for (int k = 0; k < 3; k++) {
+          res.F[k] = out[kF + k][c];
+          res.Ti[k] = out[kTi + k][c];
+          res.Tj[k] = out[kTj + k][c];
+          res.Ft[k] = out[kFt + k][c];
+        }
+        res.Fn = out[kFn][c];
+        res.delta = out[kDelta][c];
+        sink(b.i[c], b.j[c], b.ii[c], b.jj[c], res);
+      }
+      return {};
+    }
+  }
+};
+#endif
+
+}  // namespace dembridge::gran::loop_detail

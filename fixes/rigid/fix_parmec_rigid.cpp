@@ -99,6 +99,7 @@ FixParmecRigid::FixParmecRigid(LAMMPS *lmp, int narg, char **arg) : PerAtomState
   peratom_flag = 1;  // Λ per atom, row-major: f_ID[1] ... f_ID[9]
   size_peratom_cols = 9;
   peratom_freq = 1;
+  comm_forward = 9;  // Λ to ghost atoms (share_rotations)
   grow_arrays(atom->nmax);
   if (!atom->rmass_flag || !atom->quat_flag || !atom->omega_flag || !atom->torque_flag)
     error->all(FLERR, cmd_ + ": needs per-atom mass, quaternion, angular velocity and torque: use atom_style bpm/sphere");
@@ -187,6 +188,54 @@ void FixParmecRigid::setup(int)
   fill_rotation_output();
 }
 
+// Λ of the local atoms from their records (after exchange or sorting the per-atom array is stale), then
+// to the ghosts.
+void FixParmecRigid::share_rotations()
+{
+  fill_rotation_output();
+  comm->forward_comm(this);
+}
+
+void FixParmecRigid::setup_pre_force(int)
+{
+  share_rotations();  // the spring fixes' setup evaluation reads Λ (no gravity: setup applies no step)
+}
+
+void FixParmecRigid::pre_force(int)
+{
+  share_rotations();
+  add_gravity();
+}
+
+// Parmec's forces(): the force of a particle is m g (plus contacts) before the springs add theirs
+// (forces.ispc), so m g enters here, after LAMMPS cleared the forces and before the post_force fixes.
+void FixParmecRigid::add_gravity()
+{
+  if (!has_gravity_) return;
+  const double tn = step_time();
+  const double g[3] = {eval(gravity_[0], tn), eval(gravity_[1], tn), eval(gravity_[2], tn)};
+  double **f = atom->f;
+  const double *rmass = atom->rmass;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (atom->mask[i] & groupbit)
+      for (int c = 0; c < 3; c++) f[i][c] += rmass[i] * g[c];
+}
+
+int FixParmecRigid::pack_forward_comm(int n, int *list, double *buf, int, int *)
+{
+  int m = 0;
+  for (int k = 0; k < n; k++)
+    for (int c = 0; c < 9; c++) buf[m++] = rot_out_[list[k]][c];
+  return m;
+}
+
+void FixParmecRigid::unpack_forward_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++)
+    for (int c = 0; c < 9; c++) rot_out_[i][c] = buf[m++];
+}
+
 void FixParmecRigid::resolve_all()
 {
   for (auto &g : gravity_) resolve(g, "gravity");
@@ -224,7 +273,9 @@ FixParmecRigid::~FixParmecRigid()
 
 int FixParmecRigid::setmask()
 {
-  return FINAL_INTEGRATE | PRE_EXCHANGE;  // no POST_FORCE: an integrator, its records are state only
+  // PRE_FORCE: Λ to the ghosts and gravity into the force before the force fixes add theirs (Parmec's
+  // order); no POST_FORCE: an integrator, its records are state only
+  return FINAL_INTEGRATE | PRE_EXCHANGE | PRE_FORCE;
 }
 
 void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::string &where)
@@ -718,9 +769,8 @@ void FixParmecRigid::final_integrate()
   find_inertia();  // the per-atom arrays move when atoms are sorted or exchanged (Atom::sort grows them)
   const double h = update->dt;
   const double tn = step_time();
-  double g[3] = {0, 0, 0}, dl[3] = {0, 0, 0}, da[3] = {0, 0, 0};
+  double dl[3] = {0, 0, 0}, da[3] = {0, 0, 0};
   for (int c = 0; c < 3; c++) {
-    if (has_gravity_) g[c] = eval(gravity_[c], tn);
     if (has_damping_) {
       dl[c] = eval(damp_lin_[c], tn);
       da[c] = eval(damp_ang_[c], tn);
@@ -731,10 +781,11 @@ void FixParmecRigid::final_integrate()
   const double *rmass = atom->rmass;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
-  // forces of the step: other fixes' forces + gravity, then the joint reactions (spec §1.1 steps 3-6)
+  // forces of the step: gravity (pre_force) and the other fixes' forces, then the joint reactions (spec
+  // §1.1 steps 3-6)
   std::vector<Vec3> F0(nlocal), T0(nlocal);
   for (int i = 0; i < nlocal; i++) {
-    F0[i] = vec(f[i]) + rmass[i] * Vec3(g[0], g[1], g[2]);
+    F0[i] = vec(f[i]);
     T0[i] = vec(torque[i]);
   }
   if (clusters_) apply_joints(F0, T0, dl, da, tv);
@@ -776,9 +827,13 @@ void FixParmecRigid::final_integrate()
     put(F, f[i]);
     put(T, torque[i]);
 
-    const Vec3 v1 = vn + ((1.0 / m) * h) * F;  // Parmec: 1/m stored, times h, times f
+    // Parmec: 1/m stored, times h, times f; 'taylor parmec' (its ISPC build, Q27) fuses the multiply-adds
+    // v + c f and x + h v (one rounding each)
+    const double ch = (1.0 / m) * h;
+    const Vec3 v1 = q26_ ? Vec3(std::fma(ch, F[0], vn[0]), std::fma(ch, F[1], vn[1]), std::fma(ch, F[2], vn[2]))
+                         : Vec3(vn + ch * F);
     const rigid::RotationStep rot = rigid::rotation_step(J, Jinv, L, vec(omg(i)), T, h, q3_, q26_);
-    for (int c = 0; c < 3; c++) x[i][c] += h * v1[c];
+    for (int c = 0; c < 3; c++) x[i][c] = q26_ ? std::fma(h, v1[c], x[i][c]) : x[i][c] + h * v1[c];
     put(v1, v[i]);
     Vec3 W = rot.W, w = rot.w;
     if (p && p->lin && !p->lin_acc)

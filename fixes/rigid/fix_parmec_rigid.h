@@ -34,6 +34,10 @@ class FixParmecRigid : public state::PerAtomStateFix {
   void setup(int) override;
   void setup_pre_exchange() override;
   void pre_exchange() override {}
+  void setup_pre_force(int) override;
+  void pre_force(int) override;
+  int pack_forward_comm(int n, int *list, double *buf, int pbc_flag, int *pbc) override;
+  void unpack_forward_comm(int n, int first, double *buf) override;
   void final_integrate() override;
   void write_restart(FILE *fp) override;
   void restart(char *buf) override;
@@ -113,7 +117,12 @@ class FixParmecRigid : public state::PerAtomStateFix {
   std::string joint_file_;
   FILE *joint_fp_ = nullptr;
   double **J_ = nullptr;
-  double **rot_out_ = nullptr;  // per-atom output: Λ row-major (f_ID[1..9])
+  // Λ row-major per atom (f_ID[1..9]): local atoms from the records, ghosts by forward communication
+  // before the forces of every step, so force fixes can use Parmec's stored rotation on both atoms of a
+  // two-atom entity (fix parmec/spring 'order parmec')
+  double **rot_out_ = nullptr;
+  void share_rotations();
+  void add_gravity();
 };
 
 }  // namespace dembridge

@@ -11,13 +11,13 @@ namespace {
 double load_backbone(const SpringLaw& law, SpringState& st, double ds) {
   if (ds < 0.0) {
     st.stroke_comp += ds;
-    const auto r = law.spring->lookup(st.stroke_comp);
+    const auto r = law.spring->lookup(st.stroke_comp, law.fused);
     st.tangent_stiffness = r.slope;
     st.yield_comp = r.value;
     return r.value;
   }
   st.stroke_tens += ds;
-  const auto r = law.spring->lookup(st.stroke_tens);
+  const auto r = law.spring->lookup(st.stroke_tens, law.fused);
   st.tangent_stiffness = r.slope;
   st.yield_tens = r.value;
   return r.value;

@@ -26,7 +26,7 @@ double unspring_unload_step(const SpringTable& curve, SpringState& st, double st
 inline double elastic_step(const SpringLaw& law, SpringState& st, double stroke, double offset) {
   if (law.general() && st.yielded) return yielded_step(law, st, stroke);
   st.stroke = stroke;
-  const auto r = law.spring->lookup(stroke - offset);
+  const auto r = law.spring->lookup(stroke - offset, law.fused);
   st.tangent_stiffness = r.slope;
   // first yield: this step still returns the backbone value
   if (law.general() && beyond_limits(st, r.value)) first_yield(st, stroke, r.value);

@@ -16,6 +16,7 @@ struct SpringLaw {
   const SpringTable* offset = nullptr;   // stroke offset o(t), linearly extrapolated (Q5), only before yield
   double friction = 0.0;                 // mu >= 0
   double kskn = 0.0;                     // >= 0; 0 = pure sliding friction (spec §6)
+  bool fused = false;                    // Parmec's arithmetic: table values by fused multiply-add
 
   bool general() const { return unload != nullptr; }
   bool ratio_dashpot() const { return damping_ratio >= 0.0; }

@@ -40,7 +40,7 @@ inline void dashpot(const SpringLaw& law, const SpringState& st, double velocity
     c = law.damping_ratio * 2.0 * std::sqrt(std::fabs(st.tangent_stiffness) * m_eq);
     force = c * velocity;
   } else if (law.dashpot) {
-    const auto r = law.dashpot->lookup(velocity);
+    const auto r = law.dashpot->lookup(velocity, law.fused);
     force = r.value;
     c = r.slope;
   } else {
@@ -56,7 +56,7 @@ inline SpringForce advance_spring(const SpringLaw& law, SpringState& st, const S
   SpringForce out;
   const double stroke = frame.len - in.stroke0;
   if (st.code <= kManaged) {
-    const double offset = law.offset ? law.offset->lookup(in.time).value : 0.0;
+    const double offset = law.offset ? law.offset->lookup(in.time, law.fused).value : 0.0;
     out.elastic = elastic_step(law, st, stroke, offset);
     double fd = 0.0;
     detail::dashpot(law, st, frame.velocity, in.equivalent_mass, fd, out.damping);

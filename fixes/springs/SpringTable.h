@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cmath>
 #include <vector>
 
 namespace dembridge::springs {
@@ -26,8 +27,9 @@ class SpringTable {
   static SpringTable zero();
 
   // Value and slope at s: the interval x_lo < s <= x_hi (a breakpoint selects its LEFT interval),
-  // first/last interval extended linearly outside the table (no clamping).
-  Sample lookup(double s) const;  // inline below: every spring looks up every step
+  // first/last interval extended linearly outside the table (no clamping). fused: the value rounded
+  // once, fma(slope, s - x_lo, y_lo), as Parmec's build forms it (doc/parmec_springs_kernels.md §5, FMA).
+  Sample lookup(double s, bool fused = false) const;  // inline below: every spring looks up every step
   // Same search on the y column (curve must be strictly increasing, e.g. an unload curve).
   Inverse lookup_by_force(double f) const;
 
@@ -58,10 +60,11 @@ inline std::size_t SpringTable::left_interval(const std::vector<double>& col, do
   return lo;
 }
 
-inline SpringTable::Sample SpringTable::lookup(double s) const {
+inline SpringTable::Sample SpringTable::lookup(double s, bool fused) const {
   const std::size_t lo = left_interval(x_, s);
   const double slope = (y_[lo + 1] - y_[lo]) / (x_[lo + 1] - x_[lo]);
   // value written as y_lo + slope (s - x_lo): round-off decides whether F == 0 exactly (spec §17.9)
+  if (fused) return {std::fma(slope, s - x_[lo], y_[lo]), slope};
   return {y_[lo] + slope * (s - x_[lo]), slope};
 }
 

@@ -17,4 +17,19 @@ inline Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 
+// The same products rounded as Parmec's build forms them: its ISPC kernels are compiled with fused
+// multiply-add contraction, so x*y + z is fma(x, y, z) (the first product of a sum fused, the other rounded).
+inline double dot_fused(const Vec3& a, const Vec3& b) {
+  return std::fma(a[2], b[2], std::fma(a[0], b[0], a[1] * b[1]));
+}
+inline Vec3 cross_fused(const Vec3& a, const Vec3& b) {
+  return {std::fma(a[1], b[2], -(a[2] * b[1])), std::fma(a[2], b[0], -(a[0] * b[2])),
+          std::fma(a[0], b[1], -(a[1] * b[0]))};
+}
+// L v, L row-major (Parmec's NVMUL on its column-major storage, contracted as above).
+inline Vec3 rotate_fused(const double* L, const Vec3& v) {
+  return {std::fma(L[2], v[2], std::fma(L[0], v[0], L[1] * v[1])), std::fma(L[5], v[2], std::fma(L[3], v[0], L[4] * v[1])),
+          std::fma(L[8], v[2], std::fma(L[6], v[0], L[7] * v[1]))};
+}
+
 }  // namespace dembridge::springs

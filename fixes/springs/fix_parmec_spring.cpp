@@ -14,6 +14,7 @@
 #include "domain.h"
 #include "error.h"
 #include "memory.h"
+#include "modify.h"
 #include "update.h"
 #include "utils.h"
 
@@ -27,6 +28,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <numeric>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -101,7 +103,7 @@ FixParmecSpring::FixParmecSpring(LAMMPS *lmp, int narg, char **arg) :
     reader_(lmp, cmd_, state::DefinitionReader::kTable | state::DefinitionReader::kTseries |
                            state::DefinitionReader::kFile | state::DefinitionReader::kHistory |
                            state::DefinitionReader::kStart,
-            "spring", "table, tseries, spring, file, history, start, eqm or inertia")
+            "spring", "table, tseries, spring, file, history, start, eqm, inertia or order")
 {
   if (narg < 4)
     error->all(FLERR, cmd_ + ": expected definitions (table, tseries, spring, file, start) after the style name");
@@ -128,9 +130,15 @@ FixParmecSpring::FixParmecSpring(LAMMPS *lmp, int narg, char **arg) :
                     i += 2;
                     return true;
                   }
+                  if (tok[i] == "order") {
+                    parmec_order_ = reader_.choice(tok, i, where, {"lammps", "parmec"}) == 1;
+                    return true;
+                  }
                   return parse_spring(tok, i, where);
                 });
   resolve();
+  for (SpringDef &d : defs_) d.law.fused = parmec_order_;
+  parmec_schedule();
 
   reference_geometry(snapshot_entity_atoms());
   initial_states();
@@ -176,6 +184,51 @@ void FixParmecSpring::resolve()
     atoms.emplace_back(defs_[s].tag1, defs_[s].tag2);
   }
   define_entities("spring", ids, atoms, 6);  // state on part1; force (3) and torque (3) on each atom
+}
+
+// Parmec's spring loop (forces.ispc, one task) walks the springs sorted by (part1, part2) and keeps one
+// running sum per body side: the forces of consecutive springs with the same part1 (a "run") are summed,
+// then added to part1's force when part1 changes; likewise for part2 among the springs with a part2 (a
+// spring to space does not end a part2 run), subtracted when part2 changes; at the end the part1 sum, then
+// the part2 sum. rank = (the moment its run is added) * n + (position in the sorted order), so an atom's
+// contributions sorted by rank are its runs in Parmec's order, each in spring order.
+void FixParmecSpring::parmec_schedule()
+{
+  const int n = static_cast<int>(defs_.size());
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [this](int a, int b) {
+    return defs_[a].tag1 != defs_[b].tag1 ? defs_[a].tag1 < defs_[b].tag1 : defs_[a].tag2 < defs_[b].tag2;
+  });
+  std::vector<int> run_of(2 * std::size_t(n), -1), added;  // run of each (spring, side); when a run is added
+  int jrun = -1, krun = -1, moment = 0;
+  tagint j0 = 0, k0 = 0;
+  for (int p = 0; p < n; p++) {
+    const SpringDef &d = defs_[order[p]];
+    if (jrun < 0 || d.tag1 != j0) {
+      if (jrun >= 0) added[jrun] = moment++;
+      jrun = static_cast<int>(added.size());
+      added.push_back(-1);
+      j0 = d.tag1;
+    }
+    run_of[2 * order[p]] = jrun;
+    if (d.tag2 < 0) continue;
+    if (krun < 0 || d.tag2 != k0) {
+      if (krun >= 0) added[krun] = moment++;
+      krun = static_cast<int>(added.size());
+      added.push_back(-1);
+      k0 = d.tag2;
+    }
+    run_of[2 * order[p] + 1] = krun;
+  }
+  if (jrun >= 0) added[jrun] = moment++;
+  if (krun >= 0) added[krun] = moment++;
+  parmec_rank_.assign(2 * std::size_t(n), -1);
+  for (int p = 0; p < n; p++)
+    for (int side = 0; side < 2; side++) {
+      const int r = run_of[2 * order[p] + side];
+      if (r >= 0) parmec_rank_[2 * order[p] + side] = static_cast<long long>(added[r]) * n + p;
+    }
 }
 
 // LENGTH STROKE F SF FF SS of a spring state: the output columns 2-7 and the history columns.
@@ -357,6 +410,13 @@ void FixParmecSpring::init()
       error->all(FLERR, cmd_ + ": spring " + std::to_string(d.id) + ": ratio dashpot needs atom masses");
   }
   check_record_count();  // one state per spring, on part1's owner
+  rigid_ = nullptr;
+  if (parmec_order_) {
+    const auto rigid = modify->get_fix_by_style("^parmec/rigid$");
+    if (rigid.empty())
+      error->all(FLERR, cmd_ + ": order parmec: needs fix parmec/rigid (the springs use the rotations it keeps)");
+    rigid_ = rigid.front();
+  }
 }
 
 void FixParmecSpring::setup(int)
@@ -415,6 +475,7 @@ void FixParmecSpring::evaluate(Mode mode)
   ctx.tag = atom->tag;
   ctx.nall = nlocal + atom->nghost;
   ctx.periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
+  ctx.rot = rigid_ ? rigid_->array_atom : nullptr;
 
   // Phase 1, threaded: every spring from its own record and the atoms' (read-only) data; it writes its
   // record, its output row, its plan item and its result only, so the outcome does not depend on the
@@ -490,6 +551,10 @@ void FixParmecSpring::evaluate(Mode mode)
 #endif
   for (int i = 0; i < nlocal; i++) {
     const state::LocalIncidence::Term *t0 = incidence_.begin(i), *t1 = incidence_.end(i);
+    if (parmec_order_) {
+      add_in_parmec_order(i, t0, t1, f[i], torque ? torque[i] : nullptr);
+      continue;
+    }
     if (sums_.empty(i)) {
       if (t0 == t1) continue;
       double acc[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};  // its own array: it stays in registers
@@ -511,6 +576,40 @@ void FixParmecSpring::evaluate(Mode mode)
       sums_.sum_with(i, terms, n, sum);
       add_to_atom(i, sum);
     }
+  }
+}
+
+// Atom i's contributions (local results t0..t1 and the entries received for it) added to f and torque run
+// by run in Parmec's order (parmec_schedule): each run summed from its first spring on, then added.
+void FixParmecSpring::add_in_parmec_order(int i, const state::LocalIncidence::Term *t0,
+                                          const state::LocalIncidence::Term *t1, double *f, double *torque) const
+{
+  struct Item {
+    long long rank;
+    const double *v;
+    double sign;
+  };
+  Item items[2 * state::OrderedSums::kMaxOrdered];
+  const int cap = 2 * state::OrderedSums::kMaxOrdered;
+  int n = 0;
+  for (const state::LocalIncidence::Term *t = t0; t != t1 && n < cap; ++t) {
+    const SpringResult &res = results_[t->r];
+    items[n++] = {parmec_rank_[2 * std::size_t(t->key) + t->side], t->side ? res.ft2 : res.ft1, t->side ? -1.0 : 1.0};
+  }
+  for (int c = 0; c < sums_.count(i) && n < cap; c++) {  // received: part2 sides, sign applied
+    const double *e = sums_.entry_of(i, c);
+    items[n++] = {parmec_rank_[2 * static_cast<std::size_t>(e[0]) + 1], e + 1, 1.0};
+  }
+  std::sort(items, items + n, [](const Item &a, const Item &b) { return a.rank < b.rank; });
+  const long long nspr = static_cast<long long>(defs_.size());
+  double run[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  for (int m = 0; m < n; m++) {
+    const bool first = m == 0 || items[m].rank / nspr != items[m - 1].rank / nspr;
+    for (int c = 0; c < 6; c++) run[c] = (first ? 0.0 : run[c]) + items[m].sign * items[m].v[c];
+    if (m + 1 < n && items[m + 1].rank / nspr == items[m].rank / nspr) continue;
+    for (int c = 0; c < 3; c++) f[c] += run[c];
+    if (torque)
+      for (int c = 0; c < 3; c++) torque[c] += run[3 + c];
   }
 }
 
@@ -619,7 +718,17 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
   } else {
     xj = vec(x[i]);
   }
-  const sp::Vec3 a = zero(d.arm1) ? zero3 : (ctx.quat ? Rot::of(ctx.quat[i]) : Rot::identity()).apply(d.arm1);
+  // attachment points (spec §2.2). 'order parmec': as Parmec forms them, p = x + Λ(P − X) with the stored Λ
+  // of fix parmec/rigid, a = p − x (also b, q); otherwise the arm from the atom quaternion.
+  const bool parmec = ctx.rot != nullptr;
+  sp::Vec3 a, p;
+  if (parmec) {
+    p = xj + sp::rotate_fused(ctx.rot[i], d.arm1);
+    a = p - xj;
+  } else {
+    a = zero(d.arm1) ? zero3 : (ctx.quat ? Rot::of(ctx.quat[i]) : Rot::identity()).apply(d.arm1);
+    p = xj + a;
+  }
   int k = -1;
   sp::Vec3 b = zero3, q, normal = d.nref;
   if (d.tag2 >= 0) {
@@ -641,12 +750,18 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
       return flags | kFailed;
     }
     const bool plane = d.mode == sp::DirectionMode::Plane;
-    if (!zero(d.arm2) || plane) {
-      const Rot Rk = ctx.quat ? Rot::of(ctx.quat[k]) : Rot::identity();
-      if (!zero(d.arm2)) b = Rk.apply(d.arm2);
-      if (plane) normal = Rk.apply(d.nref);
+    if (parmec) {
+      q = vec(x[k]) + sp::rotate_fused(ctx.rot[k], d.arm2);
+      b = q - vec(x[k]);
+      if (plane) normal = sp::rotate_fused(ctx.rot[k], d.nref);
+    } else {
+      if (!zero(d.arm2) || plane) {
+        const Rot Rk = ctx.quat ? Rot::of(ctx.quat[k]) : Rot::identity();
+        if (!zero(d.arm2)) b = Rk.apply(d.arm2);
+        if (plane) normal = Rk.apply(d.nref);
+      }
+      q = vec(x[k]) + b;
     }
-    q = vec(x[k]) + b;
   } else {
     q = d.arm2;
   }
@@ -665,14 +780,15 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
     apply = false;
   } else {
     sp::SpringKinematics kin;
-    kin.p = xj + a;
+    kin.p = p;
     kin.q = q;
     kin.normal = normal;
     const sp::Vec3 wj = ctx.omega ? vec(ctx.omega[i]) : zero3;
     const sp::Vec3 vk = k >= 0 ? vec(v[k]) : zero3;
     const sp::Vec3 wk = (k >= 0 && ctx.omega) ? vec(ctx.omega[k]) : zero3;
-    kin.u = sp::relative_velocity(vec(v[i]), wj, a, k >= 0, vk, wk, b);
-    const sp::SpringFrame frame = sp::spring_frame(d.mode, d.d, kin);
+    kin.u = parmec ? sp::relative_velocity_parmec(vec(v[i]), wj, a, k >= 0, vk, wk, b)
+                   : sp::relative_velocity(vec(v[i]), wj, a, k >= 0, vk, wk, b);
+    const sp::SpringFrame frame = sp::spring_frame(d.mode, d.d, kin, parmec);
     sp::SpringStepInput in;
     in.stroke0 = d.stroke0;
     in.time = ctx.tnow - ctx.dt;  // Parmec's label t_n of the positions x_{n+1/2} (kernel doc §5)
@@ -699,7 +815,7 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
   if (apply) {
     // a centre attachment has no moment arm: its torque is exactly zero (+0 instead of cross()'s signed
     // zeros; the same sums, which start at +0 and never come back to -0)
-    const sp::Vec3 ta = d.arm1_zero ? zero3 : sp::cross(a, F);
+    const sp::Vec3 ta = parmec ? sp::cross_fused(a, F) : d.arm1_zero ? zero3 : sp::cross(a, F);
     res.apply = true;
     res.k = k;
     for (int c = 0; c < 3; c++) {
@@ -707,7 +823,7 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
       res.ft1[3 + c] = ta[c];
     }
     if (k >= 0) {
-      const sp::Vec3 tb = d.arm2_zero ? zero3 : sp::cross(b, F);
+      const sp::Vec3 tb = parmec ? sp::cross_fused(b, F) : d.arm2_zero ? zero3 : sp::cross(b, F);
       for (int c = 0; c < 3; c++) {
         res.ft2[c] = F[c];
         res.ft2[3 + c] = tb[c];

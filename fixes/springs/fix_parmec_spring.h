@@ -110,6 +110,15 @@ class FixParmecSpring : public state::PerAtomStateFix {
   std::unordered_set<long> spring_ids_;
   std::vector<SpringDef> defs_;
   bool q8_arm_ = false;        // 'eqm parmec': ratio dashpots use Parmec's arm 2X - P (quirk Q8)
+  // 'order parmec': Parmec's forces.ispc arithmetic (doc/fix_parmec_spring.md "Parmec's operation order"):
+  // points from fix parmec/rigid's stored Λ, arms p - x, its relative velocity and (1/len)·w, and each atom's
+  // contributions added run by run in Parmec's (part1, part2)-sorted spring order.
+  bool parmec_order_ = false;
+  LAMMPS_NS::Fix *rigid_ = nullptr;  // fix parmec/rigid: Λ per atom (local and ghost) as array_atom
+  std::vector<long long> parmec_rank_;  // 2 per spring (part1, part2 side): flush event * nsprings + position
+  void parmec_schedule();
+  void add_in_parmec_order(int i, const state::LocalIncidence::Term *t0, const state::LocalIncidence::Term *t1,
+                           double *f, double *torque) const;
   std::unordered_map<int, const springs::SpringTable *> unspring_unload_;
   mutable state::RecordIndex where_;  // spring index -> (local atom, record) of the states owned here
   std::unordered_map<long, int> id_index_;  // user spring ID -> spring index
@@ -121,6 +130,7 @@ class FixParmecSpring : public state::PerAtomStateFix {
     Mode mode = Mode::Commit;
     double dt = 0.0, tnow = 0.0;
     double **omega = nullptr, **quat = nullptr;
+    double **rot = nullptr;  // 'order parmec': Λ row-major per atom (fix parmec/rigid)
     const double *rmass = nullptr, *mass = nullptr, *radius = nullptr;
     const int *type = nullptr;
     const LAMMPS_NS::tagint *tag = nullptr;

@@ -41,6 +41,10 @@ class OrderedSums {
   // Fix::unpack_reverse_comm; false if an atom got more entries than configured (internal error).
   bool unpack(int n, const int *list, const double *buf);
   bool empty(int i) const { return count_[i] == 0; }
+  // Ordered mode: atom i's entries, each [key, width values with their sign] (for fixes that combine
+  // them in an order of their own, e.g. Parmec's per-body runs in fix parmec/spring 'order parmec').
+  int count(int i) const { return count_[i]; }
+  const double *entry_of(int i, int c) const { return entry(i, c); }
   // width values, key order. Thread-safe for distinct atoms (no shared scratch).
   void sum(int i, double *out) const;
   // Atom i's entries merged with n further terms (sign * v, as add() would store them) of keys that

@@ -133,7 +133,10 @@ class Runner:
                 self.cmd("compute PO all parmec/obstacles G")  # moving obstacles' poses for OUTPUT 'MESH'
 
         if m.springs:
-            self.cmd(f"fix S all parmec/spring start parmec inertia pmJ{' eqm parmec' if m.quirks else ''} "
+            # 'order parmec': Parmec's spring arithmetic on fix parmec/rigid's Λ (both modes integrate with it;
+            # a CRITICAL-only build has no integrator)
+            order = "" if critical_only else " order parmec"
+            self.cmd(f"fix S all parmec/spring start parmec{order} inertia pmJ{' eqm parmec' if m.quirks else ''} "
                      f"file {self.write('springs.def', self._springs())}")
         if m.torsions:
             self.cmd(f"fix T all parmec/torsion start parmec file {self.write('torsion.def', self._torsions())}")

@@ -17,17 +17,23 @@ Sanity (exit 1 on failure): the plugin's thermo output on 2 threads equals its 1
 exactly (the threaded styles are bit-identical to 1 thread) and its log reports 2 threads.
 
 --callgrind (load-independent, for a shared machine): instructions per MD step of every thread,
-from callgrind runs of --cg-steps and 3x --cg-steps steps (the difference removes set-up), with
-OMP_WAIT_POLICY=passive so waiting threads execute nothing. Printed per code: Ir/step on 1 thread,
-on N threads the sum over threads (the threading overhead) and the busiest thread, and the bound
-1-thread Ir / busiest thread's Ir: the speed-up if every instruction cost the same time and the
-threads never waited for each other except at the end of the step (cache and memory effects not
-counted). callgrind runs 2 at a time; ~15 min at a load of 10.
+from callgrind runs of --cg-steps and --cg-steps + --cg-span steps (the difference removes set-up),
+with OMP_WAIT_POLICY=passive so waiting threads execute nothing. The span must contain neighbour
+rebuilds at the deck's rate (the chute rebuilds every ~34 steps; the default 200-step span holds 6,
+as 1000 steps hold 29): a span without one misses the rebuilds' serial work (binning, exchange,
+history conversion) and overstates the bound. Printed per code: Ir/step on 1 thread, on N threads
+the sum over threads (the threading overhead) and the busiest thread, and the bound 1-thread Ir /
+busiest thread's Ir: the speed-up if every instruction cost the same time and the threads never
+waited for each other except at the end of the step (cache and memory effects not counted). Also
+the same bound without memset/memcpy/memmove: callgrind counts each iteration of their `rep stos` /
+`rep movs` as an instruction (one per byte), while the hardware stores 32-64 bytes a cycle; OpenMP
+zeroes every thread's force copy (1.8 MB per thread per step on the chute) that way. callgrind runs
+2 at a time; ~15 min at a load of 10.
 
 Outputs in bench/out/threads/ (git-ignored): logs and results.md.
 
 usage: /work/main/.venv/bin/python bench/run_threads_bench.py [--steps 1000] [--rounds 3] [--threads 2]
-           [--model hooke|hertz] [--plugin PATH] [--quick] [--callgrind [--cg-steps 10] [--no-wall]]
+           [--model hooke|hertz] [--plugin PATH] [--quick] [--callgrind [--cg-steps 20] [--cg-span 200] [--no-wall]]
 """
 import concurrent.futures
 import glob
@@ -63,14 +69,28 @@ def chute_cmd(model, nsteps, threads, plugin, log):
     return cmd
 
 
+REP_STRING = re.compile(r"memset|memcpy|memmove")
+
+
+def rep_string_ir(path):
+    """Ir callgrind attributes to memset/memcpy/memmove in one thread's file (counted per byte)."""
+    out = subprocess.run(["callgrind_annotate", "--threshold=100", path], capture_output=True, text=True).stdout
+    total = 0
+    for line in out.splitlines():
+        m = re.match(r"^\s*([\d,]+)\s+(?:\([^)]*\)\s+)?(\S.*)$", line)
+        if m and ":" in m.group(2) and REP_STRING.search(m.group(2)):
+            total += int(m.group(1).replace(",", ""))
+    return total
+
+
 def callgrind_thread_totals(out_prefix):
-    """Ir of each thread of one callgrind run (--separate-threads=yes writes one file per thread)."""
+    """(Ir, memset/memcpy Ir) of each thread of one callgrind run (--separate-threads=yes: one file per thread)."""
     totals = []
     for path in sorted(glob.glob(out_prefix + "-*")):
         with open(path, errors="replace") as fh:
             for line in fh:
                 if line.startswith("totals:") or line.startswith("summary:"):
-                    totals.append(int(line.split()[1]))
+                    totals.append((int(line.split()[1]), rep_string_ir(path)))
                     break
     return totals
 
@@ -89,33 +109,44 @@ def callgrind_run(model, nsteps, threads, plugin, tag):
         p = subprocess.run(cmd, cwd=HERE, env=env, stdout=fh, stderr=subprocess.STDOUT, timeout=14400)
     if p.returncode != 0:
         sys.exit(f"callgrind run {tag} failed (rc {p.returncode}), see {out}.stdout")
-    return [t for t in callgrind_thread_totals(out) if t > 0]
+    return [t for t in callgrind_thread_totals(out) if t[0] > 0]
 
 
 def callgrind_table(a, plugin):
     """Ir per MD step per thread: (3S-step run - S-step run) / 2S, for both codes, 1 and N threads."""
     jobs = {}
+    short_steps, long_steps = a.cg_steps, a.cg_steps + a.cg_span
     with concurrent.futures.ThreadPoolExecutor(max_workers=2) as ex:
         for code, plg in (("plg", plugin), ("lmp", None)):
             for nt in (1, a.threads):
-                for steps in (a.cg_steps, 3 * a.cg_steps):
+                for steps in (short_steps, long_steps):
                     jobs[(code, nt, steps)] = ex.submit(callgrind_run, a.model, steps, nt, plg, f"{code}.t{nt}.s{steps}")
     res = {k: f.result() for k, f in jobs.items()}
-    rows = ["", f"## callgrind: Ir per MD step ({a.cg_steps} -> {3 * a.cg_steps} steps, OMP_WAIT_POLICY=passive)", "",
-            f"| code | 1 thread | {a.threads} threads: sum | busiest thread | overhead | bound t1 / busiest |",
-            "|---|---|---|---|---|---|"]
+    rebuilds = {}
+    for code in ("plg", "lmp"):
+        logs = [os.path.join(OUT, f"cg.{code}.t1.s{n}.log") for n in (short_steps, long_steps)]
+        counts = [re.findall(r"Neighbor list builds = (\d+)", open(l, errors="replace").read()) for l in logs]
+        rebuilds[code] = int(counts[1][-1]) - int(counts[0][-1]) if all(counts) else -1
+    rows = ["", f"## callgrind: Ir per MD step ({short_steps} -> {long_steps} steps, {rebuilds['plg']} neighbour rebuilds "
+            f"in between; OMP_WAIT_POLICY=passive)", "",
+            f"| code | 1 thread | {a.threads} threads: sum | busiest thread | overhead | bound t1 / busiest | "
+            f"same without memset/memcpy |", "|---|---|---|---|---|---|---|"]
     bounds = {}
     for code in ("plg", "lmp"):
-        per_step = {}
+        per_step, rep = {}, {}
         for nt in (1, a.threads):
-            short, long_ = res[(code, nt, a.cg_steps)], res[(code, nt, 3 * a.cg_steps)]
+            short, long_ = res[(code, nt, short_steps)], res[(code, nt, long_steps)]
             # threads are listed in creation order in both runs (main thread first)
-            per_step[nt] = [(l - s) / (2 * a.cg_steps) for s, l in zip(short, long_)]
+            per_step[nt] = [(l[0] - s[0]) / a.cg_span for s, l in zip(short, long_)]
+            rep[nt] = [(l[1] - s[1]) / a.cg_span for s, l in zip(short, long_)]
         t1 = sum(per_step[1])
         tn = per_step[a.threads]
+        t1_net = t1 - sum(rep[1])
+        tn_net = [t - r for t, r in zip(tn, rep[a.threads])]
         bounds[code] = t1 / max(tn)
+        bounds[code + "_net"] = t1_net / max(tn_net)
         rows.append(f"| {'dembridge' if code == 'plg' else 'built-in'} | {t1 / 1e6:.2f} M | {sum(tn) / 1e6:.2f} M | "
-                    f"{max(tn) / 1e6:.2f} M | {100 * (sum(tn) / t1 - 1):+.1f} % | {bounds[code]:.3f} |")
+                    f"{max(tn) / 1e6:.2f} M | {100 * (sum(tn) / t1 - 1):+.1f} % | {bounds[code]:.3f} | {bounds[code + '_net']:.3f} |")
     return rows, bounds
 
 
@@ -199,7 +230,8 @@ def main():
     ap.add_argument("--plugin", default=os.path.join(REPO, "build", "dembridgeplugin.so"))
     ap.add_argument("--quick", action="store_true", help="200 steps, 1 round: checks that everything runs")
     ap.add_argument("--callgrind", action="store_true", help="also per-thread instructions per step (load-independent)")
-    ap.add_argument("--cg-steps", type=int, default=10)
+    ap.add_argument("--cg-steps", type=int, default=20, help="short callgrind run (set-up + these steps)")
+    ap.add_argument("--cg-span", type=int, default=200, help="steps the long callgrind run adds (must hold rebuilds)")
     ap.add_argument("--no-wall", action="store_true", help="skip the wall-time runs (with --callgrind)")
     a = ap.parse_args()
     if a.quick:
@@ -219,7 +251,8 @@ def main():
         lines += wl
     if a.callgrind:
         cl, bounds = callgrind_table(a, plugin)
-        lines += cl + ["", f"callgrind bound for the plugin {bounds['plg']:.3f} (target {TARGET}), built-in {bounds['lmp']:.3f}"]
+        lines += cl + ["", f"callgrind bound for the plugin {bounds['plg']:.3f} ({bounds['plg_net']:.3f} without memset/memcpy; "
+                            f"target {TARGET}), built-in {bounds['lmp']:.3f} ({bounds['lmp_net']:.3f})"]
     lines += ["", f"uptime after:  {uptime()}"]
     text = "\n".join(lines) + "\n"
     with open(os.path.join(OUT, "results.md"), "w") as fh:

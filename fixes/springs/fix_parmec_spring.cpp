@@ -642,54 +642,6 @@ void FixParmecSpring::sync_records() const
   hot_dirty_ = false;
 }
 
-void FixParmecSpring::grow_arrays(int nmax)
-{
-  sync_records();
-  PerAtomStateFix::grow_arrays(nmax);
-}
-
-void FixParmecSpring::copy_arrays(int i, int j, int delflag)
-{
-  sync_records();
-  PerAtomStateFix::copy_arrays(i, j, delflag);
-}
-
-void FixParmecSpring::set_arrays(int i)
-{
-  sync_records();
-  PerAtomStateFix::set_arrays(i);
-}
-
-int FixParmecSpring::pack_exchange(int i, double *buf)
-{
-  sync_records();
-  return PerAtomStateFix::pack_exchange(i, buf);
-}
-
-int FixParmecSpring::unpack_exchange(int nlocal, double *buf)
-{
-  sync_records();
-  return PerAtomStateFix::unpack_exchange(nlocal, buf);
-}
-
-int FixParmecSpring::pack_restart(int i, double *buf)
-{
-  sync_records();
-  return PerAtomStateFix::pack_restart(i, buf);
-}
-
-void FixParmecSpring::unpack_restart(int nlocal, int nth)
-{
-  sync_records();
-  PerAtomStateFix::unpack_restart(nlocal, nth);
-}
-
-void FixParmecSpring::end_of_step()
-{
-  sync_records();  // the history rows read the records
-  PerAtomStateFix::end_of_step();
-}
-
 // One spring (evaluation index r of the plan). Thread-safe: reads atoms and definitions, writes only its
 // record, output row r, plan_[r] and results_[r]; failures are recorded, reported by evaluate().
 int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)

@@ -42,15 +42,8 @@ class FixParmecSpring : public state::PerAtomStateFix {
   void write_restart(FILE *fp) override;
   void restart(char *buf) override;
 
-  // The records are packed from hot_ (sync_records) before the layer moves, packs or reads them.
-  void grow_arrays(int nmax) override;
-  void copy_arrays(int i, int j, int delflag) override;
-  void set_arrays(int i) override;
-  int pack_exchange(int i, double *buf) override;
-  int unpack_exchange(int nlocal, double *buf) override;
-  int pack_restart(int i, double *buf) override;
-  void unpack_restart(int nlocal, int nth) override;
-  void end_of_step() override;
+  // The layer's hook before it moves, packs or reads the records: the states advanced in hot_ are packed.
+  void flush_records() override { sync_records(); }
 
   double compute_vector(int n) override;
   // CRITICAL lists: row r < spring_count(): spring r (definition order), row spring_count() + t - 1: atom

@@ -17,6 +17,15 @@ namespace dembridge::gran::loop_detail {
 #if defined(DEMBRIDGE_HAVE_AVX2_SCAN) && defined(DEMBRIDGE_HAVE_LANES4)
 #define DEMBRIDGE_HAVE_LANE_CONTACTS 1
 
+constexpr int kLaneMaxHistory = 6;  // history values per pair the lanes carry
+// The gathered atom data of four touching pairs, one per lane, that the LIGGGHTS laws' lane forms
+// read. Kernel::LaneIn is the kernel's own input type (LAMMPS laws: LammpsPairIn<Lanes4>, the same
+// field names less mi, mj and the LIGGGHTS coefficients), which the loop fills directly.
+struct PairLanes {
+  Lanes4 del[3], rsq, radi, radj, vi[3], vj[3], wi[3], wj[3], mi, mj, meff;
+  PairCoeffsT<Lanes4> pc;
+};
+
 // Fallback: the per-pair evaluation, for the kernels without a lane form (Kernel::kLanes false).
 template <class Fallback> struct LaneContacts {
   [[gnu::always_inline, gnu::target("avx2")]] static Lanes4 gather(const double *base, __m128i idx)
@@ -39,11 +48,13 @@ template <class Fallback> struct LaneContacts {
   [[gnu::always_inline, gnu::target("avx2")]] static unsigned bits(LaneMask4 m) { return unsigned(_mm256_movemask_pd((__m256d)m)); }
 
   template <class Kernel, class Sink>
-  [[gnu::always_inline, gnu::target("avx2")]] static PairLoopError run(const PairLoopData &d, Batch &b, Sink &sink)
+  // out of line: inlined, its register demand made the per-atom scan loop spill (about 18 Ir per atom-step)
+  [[gnu::noinline, gnu::target("avx2")]] static PairLoopError run(const PairLoopData &d, Batch &b, Sink &sink)
   {
     if constexpr (!Kernel::kLanes) {
       return Fallback::template run<Kernel>(d, b, sink);
     } else {
+      if (!Kernel::lanes_ok(d)) return Fallback::template run<Kernel>(d, b, sink);
       const int n = b.n, n4 = (n + 3) & ~3;
       b.n = 0;
       for (int c = n; c < n4; c++) {  // padding lanes: copies of the last pair (results unused)
@@ -56,26 +67,28 @@ template <class Fallback> struct LaneContacts {
         b.j[c] = b.j[n - 1];
       }
       const bool with_history = Kernel::kHistory && d.hist;
-      constexpr int kF = 0, kTi = 3, kTj = 6, kFn = 9, kFt = 10, kDelta = 13, kShear = 14, kOut = 17;
+      // values per history slot moved through the lanes: a constant where the kernel knows it
+      const int nv = Kernel::kLaneHistory >= 0 ? Kernel::kLaneHistory : d.nv;  // a constant unrolls the loops
+      constexpr int kF = 0, kTi = 3, kTj = 6, kFn = 9, kFt = 10, kDelta = 13, kHist = 14, kOut = kHist + kLaneMaxHistory;
       alignas(32) double out[kOut][Batch::kCapacity];
       static_assert(sizeof(PairCoeffs) % sizeof(double) == 0);
       const __m128i coeff_stride = _mm_set1_epi32(d.coeff_stride), coeff_doubles = _mm_set1_epi32(int(sizeof(PairCoeffs) / sizeof(double)));
       const __m128i freeze = _mm_set1_epi32(d.freeze_groupbit);
-      const __m256i nv = _mm256_set1_epi64x(d.nv);
+      const __m256i nv4 = _mm256_set1_epi64x(d.nv);
       for (int c = 0; c < n4; c += 4) {
         const __m128i iv = _mm_load_si128(reinterpret_cast<const __m128i *>(b.i + c));
         const __m128i jv = _mm_load_si128(reinterpret_cast<const __m128i *>(b.j + c));
         const __m128i i3 = _mm_add_epi32(iv, _mm_add_epi32(iv, iv)), j3 = _mm_add_epi32(jv, _mm_add_epi32(jv, jv));
-        LammpsPairIn<Lanes4> in;
-        in.delx = _mm256_load_pd(b.dx + c);
-        in.dely = _mm256_load_pd(b.dy + c);
-        in.delz = _mm256_load_pd(b.dz + c);
-        in.rsq = _mm256_load_pd(b.rsq + c);
-        in.radi = gather(d.radius, iv);
-        in.radj = gather(d.radius, jv);
-        const Lanes4 radsum = in.radi + in.radj;
+        typename Kernel::LaneIn p;
+        p.del[0] = _mm256_load_pd(b.dx + c);
+        p.del[1] = _mm256_load_pd(b.dy + c);
+        p.del[2] = _mm256_load_pd(b.dz + c);
+        p.rsq = _mm256_load_pd(b.rsq + c);
+        p.radi = gather(d.radius, iv);
+        p.radj = gather(d.radius, jv);
+        const Lanes4 radsum = p.radi + p.radj;
         // coincident centres leave the contact normal undefined (the built-ins return NaN)
-        const unsigned coincident = ~bits(in.rsq > kCoincident * radsum * radsum) & 0xF;
+        const unsigned coincident = ~bits(p.rsq > kCoincident * radsum * radsum) & 0xF;
         Lanes4 mi = gather(d.rmass, iv), mj = gather(d.rmass, jv);
         if (d.mass_rigid) {
           const Lanes4 bi = gather(d.mass_rigid, iv), bj = gather(d.mass_rigid, jv);
@@ -92,27 +105,46 @@ template <class Fallback> struct LaneContacts {
           const int k = __builtin_ctz(coincident | infinite);
           return {(coincident >> k) & 1 ? PairLoopError::Coincident : PairLoopError::NoFiniteMass, b.i[c + k], b.j[c + k]};
         }
-        in.meff = meff;
+        if constexpr (Kernel::kAllCoeffs) {  // the LIGGGHTS laws also read the masses
+          p.mi = mi;
+          p.mj = mj;
+        }
+        p.meff = meff;
         for (int k = 0; k < 3; k++) {
-          in.vi[k] = gather(d.v + k, i3);
-          in.vj[k] = gather(d.v + k, j3);
-          in.wi[k] = gather(d.omega + k, i3);
-          in.wj[k] = gather(d.omega + k, j3);
+          p.vi[k] = gather(d.v + k, i3);
+          p.vj[k] = gather(d.v + k, j3);
+          p.wi[k] = gather(d.omega + k, i3);
+          p.wj[k] = gather(d.omega + k, j3);
         }
         const __m128i pair_type = _mm_add_epi32(_mm_mullo_epi32(gather(d.type, iv), coeff_stride), gather(d.type, jv));
         const __m128i coeff = _mm_mullo_epi32(pair_type, coeff_doubles);
-        in.kn = gather(&d.coeffs->kn, coeff);
-        in.kt = gather(&d.coeffs->kt, coeff);
-        in.gamman = gather(&d.coeffs->gamman, coeff);
-        in.gammat = gather(&d.coeffs->gammat, coeff);
-        in.mu = gather(&d.coeffs->mu, coeff);
-        Lanes4 shear[3] = {{0, 0, 0, 0}, {0, 0, 0, 0}, {0, 0, 0, 0}};
-        if (with_history) {  // slot * nv: slots are below 2^32 (neighbour-list entries of one rank)
-          const __m256i first = _mm256_mul_epu32(_mm256_load_si256(reinterpret_cast<const __m256i *>(b.slot + c)), nv);
-          for (int k = 0; k < 3; k++) shear[k] = gather64(d.hist + k, first);
+        const PairCoeffs &c0 = *d.coeffs;
+        p.pc.kn = gather(&c0.kn, coeff);
+        p.pc.kt = gather(&c0.kt, coeff);
+        p.pc.gamman = gather(&c0.gamman, coeff);
+        p.pc.gammat = gather(&c0.gammat, coeff);
+        p.pc.mu = gather(&c0.mu, coeff);
+        if constexpr (Kernel::kAllCoeffs) {
+          p.pc.Yeff = gather(&c0.Yeff, coeff);
+          p.pc.Geff = gather(&c0.Geff, coeff);
+          p.pc.lnE = gather(&c0.lnE, coeff);
+          p.pc.beta = gather(&c0.beta, coeff);
+          p.pc.char_vel = gather(&c0.char_vel, coeff);
+          p.pc.mu_roll = gather(&c0.mu_roll, coeff);
+          p.pc.eta_roll = gather(&c0.eta_roll, coeff);
+          p.pc.roll_stiffness = gather(&c0.roll_stiffness, coeff);
+          p.pc.cohesion_energy_density = gather(&c0.cohesion_energy_density, coeff);
+          p.pc.fluid_viscosity = gather(&c0.fluid_viscosity, coeff);
+          p.pc.critical_stokes = gather(&c0.critical_stokes, coeff);
+          p.pc.ln_max_restitution = gather(&c0.ln_max_restitution, coeff);
         }
-        LammpsPairOut<Lanes4> o;
-        Kernel::lanes(d, in, shear, o);
+        Lanes4 hist[Kernel::kLaneHistory > 0 ? Kernel::kLaneHistory : Kernel::kLaneHistory == 0 ? 1 : kLaneMaxHistory] = {};
+        if (with_history) {  // slot * nv: slots are below 2^32 (neighbour-list entries of one rank)
+          const __m256i first = _mm256_mul_epu32(_mm256_load_si256(reinterpret_cast<const __m256i *>(b.slot + c)), nv4);
+          for (int k = 0; k < nv; k++) hist[k] = gather64(d.hist + k, first);
+        }
+        ContactResultT<Lanes4> o;
+        Kernel::lanes(d, p, hist, o);
         for (int k = 0; k < 3; k++) {
           _mm256_store_pd(out[kF + k] + c, o.F[k]);
           _mm256_store_pd(out[kTi + k] + c, o.Ti[k]);
@@ -122,12 +154,12 @@ template <class Fallback> struct LaneContacts {
         _mm256_store_pd(out[kFn] + c, o.Fn);
         _mm256_store_pd(out[kDelta] + c, o.delta);
         if (with_history)
-          for (int k = 0; k < 3; k++) _mm256_store_pd(out[kShear + k] + c, shear[k]);
+          for (int k = 0; k < nv; k++) _mm256_store_pd(out[kHist + k] + c, hist[k]);
       }
       for (int c = 0; c < n; c++) {
         if (with_history) {
           double *h = d.hist + b.slot[c] * d.nv;
-          for (int k = 0; k < 3; k++) h[k] = out[kShear + k][c];
+          for (int k = 0; k < nv; k++) h[k] = out[kHist + k][c];
           d.touch[b.slot[c]] = TouchFlag::Touching;
         }
         ContactResult res;

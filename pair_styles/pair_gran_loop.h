@@ -21,11 +21,14 @@ namespace loop_detail {
 template <bool Hertz, bool History, bool LimitDamping> struct LammpsKernel {
   static constexpr bool kHistory = History;
 #ifdef DEMBRIDGE_HAVE_LANE_CONTACTS
-  static constexpr bool kLanes = true;  // four pairs at a time in the AVX2 loop (pair_gran_lanes.h)
-  [[gnu::always_inline]] static void lanes(const PairLoopData &d, const LammpsPairIn<Lanes4> &in, Lanes4 *shear,
-                                           LammpsPairOut<Lanes4> &out)
+  // four pairs at a time in the AVX2 loop (pair_gran_lanes.h)
+  static constexpr bool kLanes = true, kAllCoeffs = false;
+  static constexpr int kLaneHistory = History ? 3 : 0;  // the shear
+  static bool lanes_ok(const PairLoopData &d) { return !History || !d.hist || d.nv >= 3; }
+  using LaneIn = LammpsPairIn<Lanes4>;  // gathered into directly: no zero-initialised coefficients, no copy
+  [[gnu::always_inline]] static void lanes(const PairLoopData &d, const LaneIn &in, Lanes4 *hist, ContactResultT<Lanes4> &out)
   {
-    lammps_gran_law<Hertz, History, LimitDamping>(in, shear, d.history_update, d.dt, out);
+    lammps_gran_law<Hertz, History, LimitDamping>(in, hist, d.history_update, d.dt, out);
   }
 #endif
   [[gnu::always_inline]] static void touching(const PairLoopData &d, const SphereView &a, const SphereView &b, const double *del,
@@ -38,7 +41,19 @@ template <bool Hertz, bool History, bool LimitDamping> struct LammpsKernel {
 
 template <NormalModel Normal, TangentialModel Tangential> struct LiggghtsKernel {
   static constexpr bool kHistory = true;  // rolling springs may need it whatever the tangential model
+#ifdef DEMBRIDGE_HAVE_LANE_CONTACTS
+  static constexpr bool kLanes = true, kAllCoeffs = true;
+  static constexpr int kLaneHistory = -1;  // d.nv (tangential and rolling springs)
+  static bool lanes_ok(const PairLoopData &d) { return liggghts_laws_have_lanes(d.law->config()) && d.nv <= kLaneMaxHistory; }
+  using LaneIn = PairLanes;
+  [[gnu::always_inline]] static void lanes(const PairLoopData &d, const LaneIn &p, Lanes4 *hist, ContactResultT<Lanes4> &out)
+  {
+    liggghts_pair_law<Normal, Tangential>(d.law->config(), p.del, p.rsq, p.radi, p.radj, p.vi, p.vj, p.wi, p.wj, p.mi, p.mj, p.meff, p.pc,
+                                          hist, d.history_update, d.dt, out);
+  }
+#else
   static constexpr bool kLanes = false;
+#endif
   [[gnu::always_inline]] static void touching(const PairLoopData &d, const SphereView &a, const SphereView &b, const double *del,
                                               double rsq, double meff, const PairCoeffs &pc, double *hist, ContactResult &out)
   {

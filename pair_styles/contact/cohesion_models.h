@@ -7,11 +7,11 @@
 
 namespace dembridge::gran {
 
-// Returns the (negative) cohesion force along n on i.
-inline double cohesion_force(CohesionModel model, const ContactGeometry &g, double ri, double rj, double energy_density)
+// R: double or Lanes4 (lane_math.h). Returns the (negative) cohesion force along n on i.
+template <class R> [[gnu::always_inline]] inline R cohesion_force(CohesionModel model, const ContactGeometryT<R> &g, R ri, R rj, R energy_density)
 {
-  const double r = g.r;
-  double A;
+  const R r = g.r;
+  R A;
   if (model == CohesionModel::Sjkr)  // area of the lens-intersection circle, π a²
     A = -kPi / 4 * ((r - ri - rj) * (r + ri - rj) * (r - ri + rj) * (r + ri + rj)) / (r * r);
   else  // sjkr2: 2π (2R*) δ
@@ -20,10 +20,10 @@ inline double cohesion_force(CohesionModel model, const ContactGeometry &g, doub
 }
 
 // Wall branch (spec liggghts-walls §2): the contact area is the sphere-plane cap.
-inline double cohesion_force_wall(CohesionModel model, const ContactGeometry &g, double ri, double energy_density)
+template <class R> [[gnu::always_inline]] inline R cohesion_force_wall(CohesionModel model, const ContactGeometryT<R> &g, R ri, R energy_density)
 {
-  const double r = g.r;
-  double A;
+  const R r = g.r;
+  R A;
   if (model == CohesionModel::Sjkr) A = (ri * ri - r * r) * kPi;
   else A = kPi * 2. * ri * (ri - r);
   return -energy_density * A;

@@ -45,32 +45,33 @@ class ContactLaw {
 // Normal, cohesion, tangential and rolling sub-models on a contact geometry. roll_wi - roll_wj is
 // the relative rotation of the rolling models: ω_i − ω_j for pairs, the wall's cr·ω_i/r − 0 (exact)
 // for walls. Walls also use the cap-area cohesion and the wall rolling rules; mj, rj are unused.
-template <bool Wall>
-[[gnu::always_inline]] inline void ContactLaw::apply_laws(const ContactConfig &cfg, const ContactGeometry &g, const SphereView &a,
-                                                         const double *roll_wi, const double *roll_wj, double mj, double rj,
-                                                         double meff, const PairCoeffs &pc, double *history, bool history_update,
-                                                         double dt, ContactResult &out)
+// R: double (one contact) or Lanes4 (four pairs, lane_math.h; configurations of
+// liggghts_laws_have_lanes).
+template <bool Wall, class R>
+[[gnu::always_inline]] inline void apply_contact_laws(const ContactConfig &cfg, const ContactGeometryT<R> &g, R radi, R massi,
+                                                    const R *roll_wi, const R *roll_wj, R mj, R rj, R meff, const PairCoeffsT<R> &pc,
+                                                    R *history, bool history_update, double dt, ContactResultT<R> &out)
 {
-  const NormalCoefficients c = normal_coefficients(cfg, pc, g, meff);
+  const NormalCoefficientsT<R> c = normal_coefficients(cfg, pc, g, meff);
 
-  double Fn = -c.gamman * g.vn + c.kn * g.delta;
-  if (cfg.limit_force && Fn < 0.0) Fn = 0.0;
+  R Fn = -c.gamman * g.vn + c.kn * g.delta;
+  if (cfg.limit_force) Fn = lane_select(Fn < 0.0, lane_splat(0.0, Fn), Fn);
   // Cohesion pulls along n; with tangential_reduce (always in 2.x) it also lowers the Coulomb
   // and rolling limits (spec §6).
-  double Fcoh = 0.0;
+  R Fcoh = lane_splat(0.0, Fn);
   if (cfg.cohesion != CohesionModel::Off)
-    Fcoh = Wall ? cohesion_force_wall(cfg.cohesion, g, a.radius, pc.cohesion_energy_density)
-                : cohesion_force(cfg.cohesion, g, a.radius, rj, pc.cohesion_energy_density);
-  const double Fn_limit = cfg.tangential_reduce ? Fn + Fcoh : Fn;
+    Fcoh = Wall ? cohesion_force_wall(cfg.cohesion, g, radi, pc.cohesion_energy_density)
+                : cohesion_force(cfg.cohesion, g, radi, rj, pc.cohesion_energy_density);
+  const R Fn_limit = cfg.tangential_reduce ? Fn + Fcoh : Fn;
   out.Fn = Fn + Fcoh;
   out.delta = g.delta;
 
-  const double Ft_max = pc.mu * std::fabs(Fn_limit);
-  double *Ft = out.Ft;
-  double *shear = history;
+  const R Ft_max = pc.mu * lane_fabs(Fn_limit);
+  R *Ft = out.Ft;
+  R *shear = history;
   switch (cfg.tangential) {
     default:  // None; 'default' tells GCC every path writes Ft (-Wmaybe-uninitialized)
-      Ft[0] = Ft[1] = Ft[2] = 0.0;
+      Ft[0] = Ft[1] = Ft[2] = lane_splat(0.0, Fn);
       break;
     case TangentialModel::NoHistory: tangential_no_history(g, c.gammat, Ft_max, Ft); break;
     case TangentialModel::History:
@@ -78,7 +79,7 @@ template <bool Wall>
       break;
   }
 
-  double tor[3];
+  R tor[3];
   cross3(g.n, Ft, tor);
   for (int k = 0; k < 3; ++k) {
     out.F[k] = Fn * g.n[k] + Fcoh * g.n[k] + Ft[k];
@@ -86,15 +87,27 @@ template <bool Wall>
     out.Tj[k] = -g.crj * tor[k];
   }
   if (cfg.rolling != RollingModel::Off) {
-    double *rolling_history = history + (cfg.tangential == TangentialModel::History ? 3 : 0);
-    const RollingInput in{c.kn, c.kt, Fn_limit, pc.mu_roll, pc.eta_roll, pc.roll_stiffness, a.mass, mj, a.radius, rj, Wall, g.cri};
-    double M[3];
+    R *rolling_history = history + (cfg.tangential == TangentialModel::History ? 3 : 0);
+    const RollingInputT<R> in{c.kn, c.kt, Fn_limit, pc.mu_roll, pc.eta_roll, pc.roll_stiffness, massi, mj, radi, rj, Wall, g.cri};
+    R M[3];
     rolling_torque(cfg, g, roll_wi, roll_wj, in, dt, history_update, rolling_history, M);
     for (int k = 0; k < 3; ++k) {
       out.Ti[k] -= M[k];
       out.Tj[k] += M[k];
     }
   }
+}
+
+// The configurations whose laws have a lane form (all but rolling cdt).
+inline bool liggghts_laws_have_lanes(const ContactConfig &cfg) { return !cfg.lammps_formulation && rolling_has_lanes(cfg.rolling); }
+
+template <bool Wall>
+[[gnu::always_inline]] inline void ContactLaw::apply_laws(const ContactConfig &cfg, const ContactGeometry &g, const SphereView &a,
+                                                         const double *roll_wi, const double *roll_wj, double mj, double rj,
+                                                         double meff, const PairCoeffs &pc, double *history, bool history_update,
+                                                         double dt, ContactResult &out)
+{
+  apply_contact_laws<Wall>(cfg, g, a.radius, a.mass, roll_wi, roll_wj, mj, rj, meff, pc, history, history_update, dt, out);
 }
 
 // always_inline: the neighbour loop is the hot path; without it GCC stopped inlining once the
@@ -133,6 +146,21 @@ template <NormalModel Normal, TangentialModel Tangential>
   ContactGeometry g;
   make_touching_geometry(a, b, del, rsq, true, g);
   ContactLaw::apply_laws<false>(cfg, g, a, a.omega, b.omega, b.mass, b.radius, meff, pc, history, history_update, dt, out);
+}
+
+// Four touching pairs (R = Lanes4) or one (double): the geometry and the laws, from the gathered
+// atom data. cfg: liggghts_laws_have_lanes.
+template <NormalModel Normal, TangentialModel Tangential, class R>
+[[gnu::always_inline]] inline void liggghts_pair_law(const ContactConfig &config, const R *del, R rsq, R radi, R radj, const R *vi,
+                                                   const R *vj, const R *wi, const R *wj, R mi, R mj, R meff, const PairCoeffsT<R> &pc,
+                                                   R *history, bool history_update, double dt, ContactResultT<R> &out)
+{
+  ContactConfig cfg = config;
+  cfg.normal = Normal;
+  cfg.tangential = Tangential;
+  ContactGeometryT<R> g;
+  touching_geometry(del, rsq, radi, radj, vi, vj, wi, wj, true, g);
+  apply_contact_laws<false>(cfg, g, radi, mi, wi, wj, mj, radj, meff, pc, history, history_update, dt, out);
 }
 
 }  // namespace dembridge::gran

@@ -3,13 +3,15 @@
 
 namespace dembridge::gran {
 
-struct ContactResult {
-  double F[3] = {0, 0, 0};   // total force on i (on j: -F)
-  double Ti[3] = {0, 0, 0};  // torque on i
-  double Tj[3] = {0, 0, 0};  // torque on j
-  double Fn = 0;             // normal force scalar along n (after damping and cohesion)
-  double Ft[3] = {0, 0, 0};  // tangential force on i
-  double delta = 0;          // overlap
+// R: double (one contact) or Lanes4 (four, lane_math.h)
+template <class R> struct ContactResultT {
+  R F[3] = {};   // total force on i (on j: -F)
+  R Ti[3] = {};  // torque on i
+  R Tj[3] = {};  // torque on j
+  R Fn = {};     // normal force scalar along n (after damping and cohesion)
+  R Ft[3] = {};  // tangential force on i
+  R delta = {};  // overlap
 };
+using ContactResult = ContactResultT<double>;
 
 }  // namespace dembridge::gran

@@ -17,15 +17,17 @@ namespace dembridge::gran {
 
 // What the LAMMPS laws read of one touching pair (R = double), or of four (R = Lanes4, one pair
 // per lane; lane_math.h): del = x_i - x_j and its square from the neighbour loop's overlap test.
+// Field names as the LIGGGHTS laws' lane input (pair_gran_lanes.h), so that the AVX2 loop gathers
+// straight into either.
+template <class R> struct LammpsCoeffs {
+  R kn, kt, gamman, gammat, mu;  // of the type pair's PairCoeffs
+};
 template <class R> struct LammpsPairIn {
-  R delx, dely, delz, rsq;
+  R del[3], rsq;
   R radi, radj;
   R vi[3], vj[3], wi[3], wj[3];  // velocities and angular velocities
   R meff;
-  R kn, kt, gamman, gammat, mu;  // PairCoeffs of the type pair
-};
-template <class R> struct LammpsPairOut {
-  R F[3], Ti[3], Tj[3], Fn, Ft[3], delta;  // as ContactResult
+  LammpsCoeffs<R> pc;
 };
 
 // The law, written once over the number type R. Hertz, History and LimitDamping are template
@@ -35,10 +37,10 @@ template <class R> struct LammpsPairOut {
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"  // R = Lanes4 is only ever inlined into AVX2 code (lane_math.h)
 template <bool Hertz, bool History, bool LimitDamping, class R>
-[[gnu::always_inline]] inline void lammps_gran_law(const LammpsPairIn<R> &in, R *shear, bool update, double dt, LammpsPairOut<R> &out)
+[[gnu::always_inline]] inline void lammps_gran_law(const LammpsPairIn<R> &in, R *shear, bool update, double dt, ContactResultT<R> &out)
 {
   constexpr bool kScalar = std::is_same_v<R, double>;
-  const R delx = in.delx, dely = in.dely, delz = in.delz, rsq = in.rsq;
+  const R delx = in.del[0], dely = in.del[1], delz = in.del[2], rsq = in.rsq;
   const R radi = in.radi, radj = in.radj, radsum = radi + radj;
   const R r = lane_sqrt(rsq), rinv = 1.0 / r, rsqinv = 1.0 / rsq;
   const R vr1 = in.vi[0] - in.vj[0], vr2 = in.vi[1] - in.vj[1], vr3 = in.vi[2] - in.vj[2];
@@ -48,8 +50,8 @@ template <bool Hertz, bool History, bool LimitDamping, class R>
   const R wr2 = (radi * in.wi[1] + radj * in.wj[1]) * rinv;
   const R wr3 = (radi * in.wi[2] + radj * in.wj[2]) * rinv;
 
-  const R damp = in.meff * in.gamman * vnnr * rsqinv;
-  R ccel = in.kn * (radsum - r) * rinv - damp;
+  const R damp = in.meff * in.pc.gamman * vnnr * rsqinv;
+  R ccel = in.pc.kn * (radsum - r) * rinv - damp;
   R polyhertz = lane_splat(1.0, r);
   if constexpr (Hertz) {
     polyhertz = lane_sqrt((radsum - r) * radi * radj / radsum);
@@ -76,15 +78,15 @@ template <bool Hertz, bool History, bool LimitDamping, class R>
       shear[1] -= rsht * dely;
       shear[2] -= rsht * delz;
     }
-    const R mg = in.meff * in.gammat;
-    fs1 = -polyhertz * (in.kt * shear[0] + mg * vtr1);
-    fs2 = -polyhertz * (in.kt * shear[1] + mg * vtr2);
-    fs3 = -polyhertz * (in.kt * shear[2] + mg * vtr3);
+    const R mg = in.meff * in.pc.gammat;
+    fs1 = -polyhertz * (in.pc.kt * shear[0] + mg * vtr1);
+    fs2 = -polyhertz * (in.pc.kt * shear[1] + mg * vtr2);
+    fs3 = -polyhertz * (in.pc.kt * shear[2] + mg * vtr3);
     // Coulomb check on the total (spring + damping) force; slip rescales the spring
     const R fs = lane_sqrt(fs1 * fs1 + fs2 * fs2 + fs3 * fs3);
-    const R fn = in.mu * lane_fabs(ccel * r);
+    const R fn = in.pc.mu * lane_fabs(ccel * r);
     const R vtr[3] = {vtr1, vtr2, vtr3};
-    auto slip_spring = [&](const R &ratio, int k, R &spring) { spring = ratio * (shear[k] + mg * vtr[k] / in.kt) - mg * vtr[k] / in.kt; };
+    auto slip_spring = [&](const R &ratio, int k, R &spring) { spring = ratio * (shear[k] + mg * vtr[k] / in.pc.kt) - mg * vtr[k] / in.pc.kt; };
     if constexpr (kScalar) {
       if (fs > fn) {
         if (shrmag != 0.0) {
@@ -111,8 +113,8 @@ template <bool Hertz, bool History, bool LimitDamping, class R>
     }
   } else {
     const R vrel = lane_sqrt(vtr1 * vtr1 + vtr2 * vtr2 + vtr3 * vtr3);
-    const R fn = in.mu * lane_fabs(ccel * r);
-    const R fs = in.meff * in.gammat * vrel;
+    const R fn = in.pc.mu * lane_fabs(ccel * r);
+    const R fs = in.meff * in.pc.gammat * vrel;
     R ft;
     if constexpr (kScalar) ft = vrel != 0.0 ? std::min(fn, fs) / vrel : 0.0;
     else ft = lane_select(vrel != 0.0, lane_min(fn, fs) / vrel, lane_splat(0.0, r));
@@ -147,20 +149,11 @@ template <bool Hertz, bool History, bool LimitDamping>
                                                      double rsq, double meff, const PairCoeffs &pc, double *shear, bool update,
                                                      double dt, ContactResult &out)
 {
-  const LammpsPairIn<double> in{delx, dely, delz, rsq, a.radius, b.radius,
+  const LammpsPairIn<double> in{{delx, dely, delz}, rsq, a.radius, b.radius,
                                 {a.v[0], a.v[1], a.v[2]}, {b.v[0], b.v[1], b.v[2]},
                                 {a.omega[0], a.omega[1], a.omega[2]}, {b.omega[0], b.omega[1], b.omega[2]},
-                                meff, pc.kn, pc.kt, pc.gamman, pc.gammat, pc.mu};
-  LammpsPairOut<double> o;
-  lammps_gran_law<Hertz, History, LimitDamping>(in, shear, update, dt, o);
-  for (int k = 0; k < 3; k++) {
-    out.F[k] = o.F[k];
-    out.Ti[k] = o.Ti[k];
-    out.Tj[k] = o.Tj[k];
-    out.Ft[k] = o.Ft[k];
-  }
-  out.Fn = o.Fn;
-  out.delta = o.delta;
+                                meff, {pc.kn, pc.kt, pc.gamman, pc.gammat, pc.mu}};
+  lammps_gran_law<Hertz, History, LimitDamping>(in, shear, update, dt, out);
 }
 
 

@@ -4,7 +4,9 @@
 // bit-identical to the scalar one (issue 12: the neighbour loop evaluates touching pairs four at a
 // time). Branches become lane_select. The Lanes4 forms stay free of target attributes (sqrt through
 // two SSE2 halves) so that a law compiled for the baseline target can be inlined into the
-// AVX2-compiled loop (pair_gran_loop.h), where GCC then emits 256-bit instructions.
+// AVX2-compiled loop (pair_gran_loop.h), where GCC then emits 256-bit instructions. Every function
+// taking or returning Lanes4 by value must be always_inline: an out-of-line copy would be compiled
+// for the baseline target, whose calling convention for 256-bit vectors differs (garbage lanes).
 #pragma once
 
 #include <algorithm>
@@ -17,6 +19,7 @@ inline double lane_fabs(double x) { return std::fabs(x); }
 inline double lane_min(double a, double b) { return std::min(a, b); }
 inline double lane_select(bool c, double a, double b) { return c ? a : b; }
 inline double lane_splat(double x, double) { return x; }
+inline double lane_pow(double x, double y) { return std::pow(x, y); }
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
 #define DEMBRIDGE_HAVE_LANES4 1
@@ -39,6 +42,7 @@ typedef double Lanes2 __attribute__((vector_size(16)));
 [[gnu::always_inline]] inline Lanes4 lane_select(LaneMask4 c, Lanes4 a, Lanes4 b) { return c ? a : b; }
 [[gnu::always_inline]] inline Lanes4 lane_min(Lanes4 a, Lanes4 b) { return lane_select(b < a, b, a); }  // std::min(a, b) per lane
 [[gnu::always_inline]] inline Lanes4 lane_splat(double x, Lanes4) { return (Lanes4){x, x, x, x}; }
+[[gnu::always_inline]] inline Lanes4 lane_pow(Lanes4 x, double y) { return (Lanes4){std::pow(x[0], y), std::pow(x[1], y), std::pow(x[2], y), std::pow(x[3], y)}; }
 #pragma GCC diagnostic pop
 #endif
 

@@ -4,19 +4,21 @@
 
 namespace dembridge::gran {
 
-struct PairCoeffs {
+// R: double, or Lanes4 (four pairs' coefficients, lane_math.h)
+template <class R> struct PairCoeffsT {
   // material models (spec granular-models §4)
-  double Yeff = 0, Geff = 0;  // effective Young's and shear modulus
-  double lnE = 0, beta = 0;   // log of restitution, damping factor ln e / sqrt(ln²e + π²)
-  double char_vel = 0;        // hooke: characteristicVelocity
+  R Yeff{}, Geff{};  // effective Young's and shear modulus
+  R lnE{}, beta{};   // log of restitution, damping factor ln e / sqrt(ln²e + π²)
+  R char_vel{};        // hooke: characteristicVelocity
   // stiffness models (§5.3/5.4) and the LAMMPS numeric dialect
-  double kn = 0, kt = 0, gamman = 0, gammat = 0;
+  R kn{}, kt{}, gamman{}, gammat{};
   // tangential
-  double mu = 0;  // coefficientFriction
+  R mu{};  // coefficientFriction
   // rolling, cohesion, viscous (issue: rolling/cohesion)
-  double mu_roll = 0, eta_roll = 0, roll_stiffness = 0;
-  double cohesion_energy_density = 0;
-  double fluid_viscosity = 0, critical_stokes = 0, ln_max_restitution = 0;
+  R mu_roll{}, eta_roll{}, roll_stiffness{};
+  R cohesion_energy_density{};
+  R fluid_viscosity{}, critical_stokes{}, ln_max_restitution{};
 };
+using PairCoeffs = PairCoeffsT<double>;
 
 }  // namespace dembridge::gran

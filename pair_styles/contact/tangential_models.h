@@ -5,43 +5,42 @@
 
 namespace dembridge::gran {
 
+// R: double (one contact) or Lanes4 (four, lane_math.h); branches on values are lane_select,
+// which computes both sides (same values as the branches).
+
 // No history (2.x gran/hooke, 3.x tangential no_history): viscous, capped at μ|Fn| (§7.2).
-inline void tangential_no_history(const ContactGeometry &g, double gammat, double Ft_max, double *Ft)
+template <class R> [[gnu::always_inline]] inline void tangential_no_history(const ContactGeometryT<R> &g, R gammat, R Ft_max, R *Ft)
 {
-  const double vrel = len3(g.vtr);
-  const double gamma = Ft_max < gammat * vrel ? Ft_max / vrel : gammat;
+  const R vrel = len3(g.vtr);
+  const R gamma = lane_select(Ft_max < gammat * vrel, Ft_max / vrel, gammat);
   for (int k = 0; k < 3; ++k) Ft[k] = -gamma * g.vtr[k];
 }
 
 // Shear history, LIGGGHTS rule (§7.1): damping outside the Coulomb check, none while sliding,
 // spring truncated to kt|s| = μ|Fn|. `update` is false in the setup pass (history frozen).
-inline void tangential_history(const ContactGeometry &g, double kt, double gammat, double Ft_max, double dt,
-                               bool update, bool projection_2x, double *shear, double *Ft)
+template <class R>
+[[gnu::always_inline]] inline void tangential_history(const ContactGeometryT<R> &g, R kt, R gammat, R Ft_max, double dt, bool update, bool projection_2x,
+                               R *shear, R *Ft)
 {
   if (update) {
     for (int k = 0; k < 3; ++k) shear[k] += g.vtr[k] * dt;
     if (projection_2x) {  // 2.x: (s·del)/rsq · del
-      const double rsht = dot3(shear, g.del) * (1.0 / g.rsq);
+      const R rsht = dot3(shear, g.del) * (1.0 / g.rsq);
       for (int k = 0; k < 3; ++k) shear[k] -= rsht * g.del[k];
     } else {
-      const double sn = dot3(shear, g.n);
+      const R sn = dot3(shear, g.n);
       for (int k = 0; k < 3; ++k) shear[k] -= sn * g.n[k];
     }
   }
-  const double shrmag = len3(shear);
+  const R shrmag = len3(shear);
   for (int k = 0; k < 3; ++k) Ft[k] = -(kt * shear[k]);
-  const double Ft_shear = kt * shrmag;
-  if (Ft_shear > Ft_max) {
-    if (shrmag != 0.0) {
-      const double ratio = Ft_max / Ft_shear;
-      for (int k = 0; k < 3; ++k) Ft[k] *= ratio;
-      if (update)
-        for (int k = 0; k < 3; ++k) shear[k] = -Ft[k] / kt;
-    } else {
-      Ft[0] = Ft[1] = Ft[2] = 0.0;
-    }
-  } else {
-    for (int k = 0; k < 3; ++k) Ft[k] -= gammat * g.vtr[k];
+  const R Ft_shear = kt * shrmag;
+  const auto slip = Ft_shear > Ft_max, spring = shrmag != 0.0;
+  const R ratio = Ft_max / Ft_shear, zero = lane_splat(0.0, kt);
+  for (int k = 0; k < 3; ++k) {
+    const R slipped = Ft[k] * ratio;
+    if (update) shear[k] = lane_select(slip & spring, -slipped / kt, shear[k]);
+    Ft[k] = lane_select(slip, lane_select(spring, slipped, zero), Ft[k] - gammat * g.vtr[k]);
   }
 }
 

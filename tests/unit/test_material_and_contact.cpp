@@ -118,18 +118,21 @@ TEST(ContactLaw, NoHistoryTangentialIsCappedByCoulomb)
   const double xi[3] = {-0.005 + 0.5e-5, 0, 0}, xj[3] = {0.005 - 0.5e-5, 0, 0};
   const double vi[3] = {0, 5.0, 0}, vj[3] = {0, 0, 0}, w0[3] = {0, 0, 0};
   ContactResult r;
-  ASSERT_TRUE(law.evaluate({xi, vi, w0, 0.005}, {xj, vj, w0, 0.005}, kMeff, t.at(1, 1), nullptr, true, 1e-6, r));
+  // gran/hooke keeps no history; a real (unused) buffer rather than nullptr, because GCC's
+  // -Warray-bounds in the -O1 sanitizer build flags the history model's branch it cannot rule out
+  double no_history[3] = {0, 0, 0};
+  ASSERT_TRUE(law.evaluate({xi, vi, w0, 0.005}, {xj, vj, w0, 0.005}, kMeff, t.at(1, 1), no_history, true, 1e-6, r));
   EXPECT_NEAR(r.delta, 1e-5, 1e-18);
   EXPECT_NEAR(r.Fn, 19765.126693457853 * 1e-5, 1e-12);  // vn = 0: spring only
   EXPECT_NEAR(std::hypot(r.Ft[1], r.Ft[2]), 0.3 * r.Fn, 1e-15);
   EXPECT_LT(r.Ft[1], 0.0);  // opposes the sliding of i
   // slow sliding: viscous, γt vrel, below the cap
   const double vslow[3] = {0, 1e-4, 0};
-  ASSERT_TRUE(law.evaluate({xi, vslow, w0, 0.005}, {xj, vj, w0, 0.005}, kMeff, t.at(1, 1), nullptr, true, 1e-6, r));
+  ASSERT_TRUE(law.evaluate({xi, vslow, w0, 0.005}, {xj, vj, w0, 0.005}, kMeff, t.at(1, 1), no_history, true, 1e-6, r));
   EXPECT_NEAR(r.Ft[1], -0.8114761298240408 * 1e-4, 1e-16);
   // lever arm is R - δ/2, not R
   EXPECT_NEAR(r.Ti[2], (0.005 - 0.5e-5) * r.Ft[1], 1e-18);  // contact point (R_i - δ/2) x̂ from i, crossed with Ft
   // apart: no contact
   const double far[3] = {0.02, 0, 0};
-  EXPECT_FALSE(law.evaluate({xi, vi, w0, 0.005}, {far, vj, w0, 0.005}, kMeff, t.at(1, 1), nullptr, true, 1e-6, r));
+  EXPECT_FALSE(law.evaluate({xi, vi, w0, 0.005}, {far, vj, w0, 0.005}, kMeff, t.at(1, 1), no_history, true, 1e-6, r));
 }

@@ -10,6 +10,7 @@
 #include "force.h"
 #include "neigh_list.h"
 #include "neighbor.h"
+#include "modify.h"
 #include "pair.h"
 #include "update.h"
 
@@ -30,12 +31,45 @@ constexpr double kPi = 3.14159265358979323846;  // contact areas
 
 Vec3 vec(const double *a) { return {a[0], a[1], a[2]}; }
 
-const char *const kExpected = "color, pairing, obstacle, quirks, tseries, file or start";
+const char *const kExpected = "color, pairing, obstacle, mesh, quirks, tseries, file or start";
 
 struct Term {  // one contact's contribution to its sphere, summed in key order
   int key;
   double f[3], t[3];
 };
+
+// A reaction on a MESH body: body index, sphere tag, contact key, force (3), torque about the centre (3).
+constexpr int kReaction = 9;
+
+// 'N x1 y1 z1 ... (9N numbers)' of an obstacle or a MESH body
+std::vector<mesh::TriangleNodes> read_triangles(state::EntityWords &w)
+{
+  const long n = w.integer(w.next("triangle count N"), "triangle count N");
+  if (n < 1) w.fail("triangle count N must be >= 1, got " + std::to_string(n));
+  std::vector<mesh::TriangleNodes> tris;
+  for (long t = 0; t < n; t++) {
+    mesh::TriangleNodes tri;
+    for (int k = 0; k < 9; k++) tri[k / 3][k % 3] = w.number(w.next("triangle coordinate (9 per triangle)"), "triangle coordinate");
+    tris.push_back(tri);
+  }
+  return tris;
+}
+
+// 'color C | colors C1 ... CN' at the next word: read into colors (n triangles); false if another keyword
+bool read_colors(state::EntityWords &w, std::size_t n, std::vector<int> &colors)
+{
+  const std::string &kw = w.peek();
+  if (kw == "color") {
+    w.next("color");
+    colors.assign(n, static_cast<int>(w.integer(w.next("color value"), "color")));
+    return true;
+  }
+  if (kw != "colors") return false;
+  w.next("colors");
+  colors.clear();
+  for (std::size_t t = 0; t < n; t++) colors.push_back(static_cast<int>(w.integer(w.next("colour per triangle"), "colors")));
+  return true;
+}
 
 }  // namespace
 
@@ -49,11 +83,13 @@ FixParmecGranular::FixParmecGranular(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, cmd_ + " needs per-atom radius, mass, omega and torque (atom_style sphere or bpm/sphere)");
   reader_.parse(std::vector<std::string>(arg + 3, arg + narg), "command line",
                 [this](const std::vector<std::string> &tok, std::size_t &i, const std::string &where) {
-                  return parse_option(tok, i, where) || parse_pairing(tok, i, where) || parse_obstacle(tok, i, where);
+                  return parse_option(tok, i, where) || parse_pairing(tok, i, where) || parse_obstacle(tok, i, where) ||
+                         parse_mesh(tok, i, where);
                 });
   build_obstacles();
+  build_bodies();
   vector_flag = 1;
-  size_vector = 5;
+  size_vector = 12;
   global_freq = 1;
   extvector = 0;
   maxexchange_dynamic = 1;
@@ -119,25 +155,12 @@ bool FixParmecGranular::parse_obstacle(const std::vector<std::string> &tok, std:
                        "[linear S S S] [angular S S S]");
   ObstacleDef d;
   d.id = w.id(obstacle_ids_);
-  const long n = w.integer(w.next("triangle count N"), "triangle count N");
-  if (n < 1) w.fail("triangle count N must be >= 1, got " + std::to_string(n));
-  for (long t = 0; t < n; t++) {
-    mesh::TriangleNodes tri;
-    for (int k = 0; k < 9; k++) tri[k / 3][k % 3] = w.number(w.next("triangle coordinate (9 per triangle)"), "triangle coordinate");
-    d.triangles.push_back(tri);
-  }
+  d.triangles = read_triangles(w);
   for (int k = 0; k < 6; k++) d.velocity[k] = "0";
   bool have_color = false, have_point = false, have_velocity = false;
   while (w.more()) {
     const std::string &kw = w.peek();
-    if (kw == "color") {
-      w.next("color");
-      d.colors.assign(n, static_cast<int>(w.integer(w.next("color value"), "color")));
-      have_color = true;
-    } else if (kw == "colors") {
-      w.next("colors");
-      d.colors.clear();
-      for (long t = 0; t < n; t++) d.colors.push_back(static_cast<int>(w.integer(w.next("colour per triangle"), "colors")));
+    if (read_colors(w, d.triangles.size(), d.colors)) {
       have_color = true;
     } else if (kw == "point") {
       w.next("point");
@@ -156,6 +179,34 @@ bool FixParmecGranular::parse_obstacle(const std::vector<std::string> &tok, std:
   if (have_velocity && !have_point) w.fail("a moving obstacle needs its reference 'point x y z'");
   d.moving = have_point && have_velocity;
   defs_.push_back(std::move(d));
+  return w.accept(i);
+}
+
+bool FixParmecGranular::parse_mesh(const std::vector<std::string> &tok, std::size_t &i, const std::string &where)
+{
+  if (tok[i] != "mesh") return false;
+  state::EntityWords w(reader_, tok, i, where,
+                       "mesh ATOM-ID N x1 y1 z1 ... (9N numbers, reference configuration) color C | colors C1 ... CN "
+                       "center X Y Z");
+  MeshDef d;
+  d.tag = w.id(mesh_tags_);
+  if (d.tag < 1) w.fail("the atom ID of a MESH body must be >= 1, got " + std::to_string(d.tag));
+  d.triangles = read_triangles(w);
+  bool have_color = false, have_centre = false;
+  while (w.more()) {
+    if (read_colors(w, d.triangles.size(), d.colors)) {
+      have_color = true;
+    } else if (w.peek() == "center") {
+      w.next("center");
+      for (int k = 0; k < 3; k++) d.centre[k] = w.number(w.next("center coordinate"), "center");
+      have_centre = true;
+    } else {
+      break;
+    }
+  }
+  if (!have_color) w.fail("expected 'color C' or 'colors C1 ... CN'");
+  if (!have_centre) w.fail("expected 'center X Y Z' (the body's mass centre in the reference configuration)");
+  mesh_defs_.push_back(std::move(d));
   return w.accept(i);
 }
 
@@ -195,6 +246,40 @@ void FixParmecGranular::build_obstacles()
   candidates_.resize(obstacles_.size());
 }
 
+void FixParmecGranular::build_bodies()
+{
+  int first = first_triangle_.empty() ? 0 : first_triangle_.back() + obstacles_.back().mesh().size();
+  for (MeshDef &d : mesh_defs_) {
+    try {
+      bodies_.emplace_back(d.tag, d.triangles, d.colors, d.centre);
+    } catch (std::exception &e) {
+      error->all(FLERR, cmd_ + ": mesh " + std::to_string(d.tag) + ": " + e.what());
+    }
+    body_first_.push_back(first);
+    first += bodies_.back().surface().mesh().size();
+    d.triangles.clear();
+  }
+  body_candidates_.resize(bodies_.size());
+  check_mesh_pairs();
+}
+
+// Contact between two MESH bodies is not implemented (nor in Parmec): a pairing that would make two bodies'
+// surfaces touch is refused rather than silently giving no contact.
+void FixParmecGranular::check_mesh_pairs() const
+{
+  for (std::size_t a = 0; a < bodies_.size(); a++)
+    for (std::size_t b = a + 1; b < bodies_.size(); b++) {
+      const pc::Obstacle &sa = bodies_[a].surface(), &sb = bodies_[b].surface();
+      for (int ta = 0; ta < sa.mesh().size(); ta++)
+        for (int tb = 0; tb < sb.mesh().size(); tb++)
+          if (pairings_.find(sa.color(ta), sb.color(tb)).touches())
+            error->all(FLERR, fmt::format("{}: MESH bodies {} and {}: the pairing of their colours {} and {} has spring "
+                                          "> 0, but contact between two MESH bodies is not implemented (out of scope, as "
+                                          "in Parmec): give that colour pair spring 0 or use SPHEREs",
+                                          cmd_, bodies_[a].tag(), bodies_[b].tag(), sa.color(ta), sb.color(tb)));
+    }
+}
+
 // ------------------------------------------------------------------------------------------ set-up
 
 int FixParmecGranular::setmask()
@@ -215,9 +300,9 @@ void FixParmecGranular::init()
       error->all(FLERR, cmd_ + ": color " + color_name_ + ": no integer per-atom property " + color_name_ +
                             " (expected 'fix property/atom " + color_name_ + " ghost yes')");
   }
-  double rmax = 0.0;
+  double rmax = 0.0;  // of the spheres that can touch (MESH bodies and colour <= 0 have no sphere shape)
   for (int i = 0; i < atom->nlocal; i++)
-    if (atom->mask[i] & groupbit) rmax = std::max(rmax, atom->radius[i]);
+    if ((atom->mask[i] & groupbit) && color_of(i) > 0) rmax = std::max(rmax, atom->radius[i]);
   double all = 0.0;
   MPI_Allreduce(&rmax, &all, 1, MPI_DOUBLE, MPI_MAX, world);
   // the full neighbour list spans the pair cutoff (+ skin): it must reach every touching pair
@@ -227,6 +312,13 @@ void FixParmecGranular::init()
                                   "cutoff of at least {} (e.g. 'pair_style zero {}' and 'pair_coeff * *')",
                                   cmd_, cut, all, 2.0 * all, 2.0 * all));
   neighbor->add_request(this, NeighConst::REQ_FULL | NeighConst::REQ_SIZE);
+  rigid_ = nullptr;
+  if (!bodies_.empty()) {
+    const auto rigid = modify->get_fix_by_style("^parmec/rigid$");
+    if (rigid.empty())
+      error->all(FLERR, cmd_ + ": mesh: MESH bodies need fix parmec/rigid (their surfaces follow the rotation it keeps)");
+    rigid_ = rigid.front();
+  }
 }
 
 void FixParmecGranular::init_list(int, NeighList *ptr)
@@ -243,6 +335,81 @@ void FixParmecGranular::setup(int)
 int FixParmecGranular::color_of(int i) const
 {
   return color_property_ < 0 ? atom->type[i] : atom->ivector[color_property_][i];
+}
+
+// Every rank gets the pose of every MESH body (its owner's x, Λ, v, ω, mass: one allreduce of 20 doubles a
+// body, exact since the other ranks add zeros) and places the body's surface at it; the body atoms are not
+// spheres (skip).
+void FixParmecGranular::place_bodies(std::vector<int> &skip)
+{
+  constexpr int kPose = pc::BodyPose::kDoubles;
+  const int nb = static_cast<int>(bodies_.size());
+  std::vector<double> mine(std::size_t(nb) * (kPose + 1), 0.0), all(mine.size());
+  for (int b = 0; b < nb; b++) {
+    const int i = atom->map(static_cast<tagint>(bodies_[b].tag()));
+    if (i < 0 || i >= atom->nlocal) continue;
+    if (color_of(i) > 0)
+      error->one(FLERR, fmt::format("{}: mesh {}: the atom of a MESH body must have colour <= 0 (it has no sphere "
+                                    "shape), got {}", cmd_, bodies_[b].tag(), color_of(i)));
+    skip[i] = 1;
+    pc::BodyPose pose;
+    const double *L = rigid_->array_atom[i];
+    for (int k = 0; k < 3; k++) {
+      pose.x[k] = atom->x[i][k];
+      pose.v[k] = atom->v[i][k];
+      pose.w[k] = atom->omega[i][k];
+    }
+    for (int k = 0; k < 9; k++) pose.lambda[k] = L[k];
+    pose.mass = atom->rmass[i];
+    double *out = &mine[std::size_t(b) * (kPose + 1)];
+    pose.pack(out);
+    out[kPose] = 1.0;
+  }
+  MPI_Allreduce(mine.data(), all.data(), static_cast<int>(mine.size()), MPI_DOUBLE, MPI_SUM, world);
+  for (int b = 0; b < nb; b++) {
+    const double *in = &all[std::size_t(b) * (kPose + 1)];
+    if (in[kPose] != 1.0)
+      error->all(FLERR, fmt::format("{}: mesh {}: no atom with this ID (a MESH body is an atom of fix parmec/rigid)",
+                                    cmd_, bodies_[b].tag()));
+    bodies_[b].place(pc::BodyPose::unpack(in));
+  }
+}
+
+// The spheres' reactions on the MESH bodies: every rank's entries gathered on every rank and summed per body in
+// (sphere tag, contact key) order, so the sum does not depend on which rank holds which sphere; the owner of
+// the body atom adds it. Cost per step: one allgather of the counts and one allgatherv of 9 doubles per
+// sphere-body contact.
+void FixParmecGranular::apply_body_reactions(const std::vector<double> &reactions)
+{
+  const int n = static_cast<int>(reactions.size());
+  std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+  for (int r = 1; r < comm->nprocs; r++) displs[r] = displs[r - 1] + counts[r - 1];
+  std::vector<double> all(std::size_t(displs.back()) + counts.back());
+  MPI_Allgatherv(reactions.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, world);
+  const std::size_t m = all.size() / kReaction;
+  std::vector<std::size_t> order(m);
+  for (std::size_t k = 0; k < m; k++) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    const double *x = &all[a * kReaction], *y = &all[b * kReaction];
+    return std::lexicographical_compare(x, x + 3, y, y + 3);
+  });
+  std::vector<double> sums(bodies_.size() * 6, 0.0);
+  for (std::size_t k : order) {
+    const double *e = &all[k * kReaction];
+    double *out = &sums[static_cast<std::size_t>(e[0]) * 6];
+    for (int c = 0; c < 6; c++) out[c] += e[3 + c];
+  }
+  for (double &v : body_sums_) v = 0.0;
+  for (std::size_t b = 0; b < bodies_.size(); b++) {
+    for (int c = 0; c < 6; c++) body_sums_[c] += sums[b * 6 + c];
+    const int i = atom->map(static_cast<tagint>(bodies_[b].tag()));
+    if (i < 0 || i >= atom->nlocal) continue;
+    for (int c = 0; c < 3; c++) {
+      atom->f[i][c] += sums[b * 6 + c];
+      atom->torque[i][c] += sums[b * 6 + 3 + c];
+    }
+  }
 }
 
 // ------------------------------------------------------------------------------------------ contacts
@@ -268,8 +435,23 @@ void FixParmecGranular::evaluate(Mode mode)
 
   std::vector<int> skip(nlocal);
   for (int i = 0; i < nlocal; i++) skip[i] = !(mask[i] & groupbit) || color_of(i) <= 0;
+  if (!bodies_.empty()) place_bodies(skip);
+  const double reach = quirks_ ? neighbor->skin : 0.0;
+  for (std::size_t o = 0; o < obstacles_.size(); o++) candidates_[o].build(obstacles_[o].mesh(), nlocal, x, radius, skip.data(), reach);
+  for (std::size_t b = 0; b < bodies_.size(); b++)
+    body_candidates_[b].build(bodies_[b].surface().mesh(), nlocal, x, radius, skip.data(), reach);
+  // the triangle sets a sphere can touch: the obstacles, then the MESH bodies (keys in this order)
+  struct Surface {
+    const pc::Obstacle *shape;
+    const mesh::MeshNeighbors *cand;
+    int first, body;  // body: index in bodies_, -1 for an obstacle
+  };
+  std::vector<Surface> surfaces;
   for (std::size_t o = 0; o < obstacles_.size(); o++)
-    candidates_[o].build(obstacles_[o].mesh(), nlocal, x, radius, skip.data(), quirks_ ? neighbor->skin : 0.0);
+    surfaces.push_back({&obstacles_[o], &candidates_[o], first_triangle_[o], -1});
+  for (std::size_t b = 0; b < bodies_.size(); b++)
+    surfaces.push_back({&bodies_[b].surface(), &body_candidates_[b], body_first_[b], static_cast<int>(b)});
+  std::vector<double> reactions;  // kReaction per sphere-body contact
 
   std::vector<int> slot(nlocal, -1);
   if (list_)
@@ -291,8 +473,9 @@ void FixParmecGranular::evaluate(Mode mode)
     const Vec3 xi = vec(x[i]), vi = vec(v[i]), wi = vec(omega[i]);
     // key: the contact's; from: the record holding its state (the key itself, or a contact it continues)
     // keep = false: Parmec's last force of a separating contact (quirks parmec), which is then dropped
+    // body: the MESH body that gets the reaction (-1: none); partner: the output's partner column
     auto contact = [&](int key, int from, const pc::Pairing &p, const Vec3 &n, const Vec3 &arm, const Vec3 &vother,
-                       double depth, double meff, bool keep, int color2, double area) {
+                       double depth, double meff, bool keep, int color2, double area, int body, double partner) {
       if (from == 0) from = key;
       Vec3 s{0.0, 0.0, 0.0};
       for (int r = 0; r < records_.count(i); r++)
@@ -306,14 +489,21 @@ void FixParmecGranular::evaluate(Mode mode)
       const Vec3 t = mesh::cross(arm, out.f);
       terms.push_back({key, {out.f[0], out.f[1], out.f[2]}, {t[0], t[1], t[2]}});
       if (keep) fresh.insert(fresh.end(), {double(key), s[0], s[1], s[2]});
+      if (body >= 0) {  // the opposite force at the contact point, its torque about the body's centre
+        const Vec3 fb = mesh::scale(out.f, -1.0);
+        const Vec3 tb = mesh::cross(mesh::sub(mesh::add(xi, arm), bodies_[body].pose().x), fb);
+        reactions.insert(reactions.end(), {double(body), double(tag[i]), double(key), fb[0], fb[1], fb[2], tb[0], tb[1], tb[2]});
+      }
       if (key < 0 || key > tag[i]) {
         const Vec3 point = mesh::add(xi, arm);
-        rows.insert(rows.end(), {double(tag[i]), key > 0 ? double(key) : -1.0, double(ci), double(color2), point[0],
+        rows.insert(rows.end(), {double(tag[i]), partner, double(ci), double(color2), point[0],
                                  point[1], point[2], depth, out.f[0], out.f[1], out.f[2], out.fn, n[0], n[1], n[2],
                                  out.kn * depth, area});
       }
       if (key > 0) {
         counts_[0] += 0.5;
+      } else if (body >= 0) {
+        counts_[5] += 1.0;
       } else {
         counts_[1] += 1.0;
         for (int k = 0; k < 3; k++) counts_[2 + k] -= out.f[k];
@@ -348,18 +538,20 @@ void FixParmecGranular::evaluate(Mode mode)
         const double along = (len * len + radius[i] * radius[i] - radius[j] * radius[j]) / (2.0 * len);
         const double area = kPi * std::max(0.0, radius[i] * radius[i] - along * along);
         contact(static_cast<int>(tag[j]), 0, p, n, mesh::sub(point, xi), vj, depth, pc::effective_mass(rmass[i], rmass[j]),
-                depth > 0.0, cj, area);
+                depth > 0.0, cj, area, -1, double(tag[j]));
       }
     }
-    // obstacles: the closest point of each touching triangle. A flat surface of several triangles acts once
-    // (LIGGGHTS's coplanar rule, as fix wall/gran mesh): a new face contact is not made while a coplanar
-    // neighbour of the same obstacle touches, and it takes over the tangential spring of one that did.
-    // Contacts that existed before go first, so an ongoing contact keeps acting.
-    for (std::size_t o = 0; o < obstacles_.size(); o++) {
-      const pc::Obstacle &ob = obstacles_[o];
+    // obstacles and MESH bodies: the closest point of each touching triangle. A flat surface of several
+    // triangles acts once (LIGGGHTS's coplanar rule, as fix wall/gran mesh): a new face contact is not made
+    // while a coplanar neighbour of the same surface touches, and it takes over the tangential spring of one
+    // that did. Contacts that existed before go first, so an ongoing contact keeps acting. A MESH body's
+    // material velocity is v + ω × (p − x) and m_eff = 1/(1/m_i + 1/m_body), as Parmec's particle contacts.
+    for (const Surface &sf : surfaces) {
+      const pc::Obstacle &ob = *sf.shape;
       const mesh::TriangleMesh &tm = ob.mesh();
-      const mesh::MeshNeighbors &cand = candidates_[o];
-      const int first = first_triangle_[o], last = first + tm.size();
+      const mesh::MeshNeighbors &cand = *sf.cand;
+      const pc::MeshBody *body = sf.body >= 0 ? &bodies_[sf.body] : nullptr;
+      const int first = sf.first, last = first + tm.size();
       auto triangle_of = [&](int key) { return -key - 1 - first; };
       auto on_this_obstacle = [&](int key) { return key < 0 && -key - 1 >= first && -key - 1 < last; };
       for (int pass = 0; pass < 2; pass++)
@@ -393,8 +585,12 @@ void FixParmecGranular::evaluate(Mode mode)
           }
           const Vec3 n = mesh::scale(c.delta, -1.0 / len);
           const double area = kPi * std::max(0.0, radius[i] * radius[i] - len * len);  // the sphere's cut by the plane
-          contact(key, carry, p, n, c.delta, ob.velocity_at(mesh::add(xi, c.delta)), depth, rmass[i], depth > 0.0,
-                  ob.color(*t), area);
+          const Vec3 at = mesh::add(xi, c.delta);
+          if (body)
+            contact(key, carry, p, n, c.delta, body->velocity_at(at), depth, pc::effective_mass(rmass[i], body->pose().mass),
+                    depth > 0.0, ob.color(*t), area, sf.body, double(body->tag()));
+          else
+            contact(key, carry, p, n, c.delta, ob.velocity_at(at), depth, rmass[i], depth > 0.0, ob.color(*t), area, -1, -1.0);
         }
     }
     std::sort(terms.begin(), terms.end(), [](const Term &a, const Term &b) { return a.key < b.key; });
@@ -413,6 +609,7 @@ void FixParmecGranular::evaluate(Mode mode)
     }
   }
   if (commit) maxexchange = std::max(maxexchange, 1 + most * kRecord);
+  if (!bodies_.empty()) apply_body_reactions(reactions);
   const int nrows = static_cast<int>(rows.size() / kCols);
   local_rows(nrows);
   for (int r = 0; r < nrows; r++) std::copy_n(rows.data() + std::size_t(r) * kCols, kCols, array_local[r]);
@@ -420,8 +617,9 @@ void FixParmecGranular::evaluate(Mode mode)
 
 double FixParmecGranular::compute_vector(int n)
 {
-  double all[5];
-  MPI_Allreduce(counts_, all, 5, MPI_DOUBLE, MPI_SUM, world);
+  if (n >= 6) return body_sums_[n - 6];  // already the same on every rank
+  double all[6];
+  MPI_Allreduce(counts_, all, 6, MPI_DOUBLE, MPI_SUM, world);
   return all[n];
 }
 
@@ -451,6 +649,9 @@ void FixParmecGranular::write_restart(FILE *fp)
     out.push_back(double(s.size()));
     out.insert(out.end(), s.begin(), s.end());
   }
+  // MESH bodies are placed from their atoms every step: only their triangle counts (contact keys) are checked
+  out.push_back(double(bodies_.size()));
+  for (const auto &b : bodies_) out.push_back(double(b.surface().mesh().size()));
   if (comm->me == 0) {
     const int bytes = static_cast<int>(out.size() * sizeof(double));
     fwrite(&bytes, sizeof(int), 1, fp);
@@ -476,6 +677,12 @@ void FixParmecGranular::restart(char *buf)
     }
     m += n;
   }
+  bool same = static_cast<std::size_t>(list[m]) == bodies_.size();
+  for (std::size_t b = 0; same && b < bodies_.size(); b++)
+    same = static_cast<int>(list[m + 1 + b]) == bodies_[b].surface().mesh().size();
+  if (!same)
+    error->all(FLERR, cmd_ + ": the restart file holds other MESH bodies than this fix defines (define the same "
+                             "'mesh' surfaces in the same order: the contacts refer to their triangles)");
 }
 
 static RegisterStyle reg_fix_parmec_granular("fix", "parmec/granular",

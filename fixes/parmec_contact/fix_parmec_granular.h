@@ -1,7 +1,7 @@
-// fix parmec/granular: LAMMPS glue of Parmec's GRANULAR contact between spheres and between spheres and
-// OBSTACLEs (doc/fix_parmec_granular.md). The force law and the colour-pair table are in granular_law.h,
-// the obstacles (walls/mesh triangle sets with Parmec's rigid motion) in obstacle.h; this file only loops
-// over contacts. Every local sphere evaluates each of its contacts itself (full neighbour list) from the
+// fix parmec/granular: LAMMPS glue of Parmec's GRANULAR contact between spheres, between spheres and
+// OBSTACLEs and between spheres and MESH bodies (doc/fix_parmec_granular.md). The force law and the
+// colour-pair table are in granular_law.h, the obstacles (walls/mesh triangle sets with Parmec's rigid
+// motion) in obstacle.h, the MESH bodies' surfaces in mesh_body.h; this file only loops over contacts. Every local sphere evaluates each of its contacts itself (full neighbour list) from the
 // contact's state kept in its own record (key: partner tag, or -(obstacle triangle + 1)); the partner does
 // the same with the mirrored inputs, so both get exactly opposite forces without reverse communication,
 // and the sums run in key order: results do not depend on the decomposition.
@@ -9,6 +9,7 @@
 
 #include "granular_law.h"
 #include "obstacle.h"
+#include "mesh_body.h"
 #include "mesh_neighbors.h"
 
 #include "definition_reader.h"
@@ -26,7 +27,7 @@ class FixParmecGranular : public state::PerAtomStateFix {
  public:
   static constexpr int kRecord = 4;  // key, tangential displacement (3)
   // Local output, one row per contact of the last evaluation (each sphere pair once, from its lower tag):
-  // tag, partner tag (-1: obstacle), colour, partner colour, contact point (3), depth, force on the first
+  // tag, partner tag (-1: obstacle; a MESH body's atom ID), colour, partner colour, contact point (3), depth, force on the first
   // body (3), normal force, unit normal n (3, from the partner to the first body), k_n depth, contact area.
   static constexpr int kCols = 17;
   FixParmecGranular(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
@@ -48,6 +49,11 @@ class FixParmecGranular : public state::PerAtomStateFix {
 
   bool parse_pairing(const std::vector<std::string> &tok, std::size_t &i, const std::string &where);
   bool parse_obstacle(const std::vector<std::string> &tok, std::size_t &i, const std::string &where);
+  bool parse_mesh(const std::vector<std::string> &tok, std::size_t &i, const std::string &where);
+  void build_bodies();
+  void check_mesh_pairs() const;
+  void place_bodies(std::vector<int> &skip);
+  void apply_body_reactions(const std::vector<double> &reactions);
   bool parse_option(const std::vector<std::string> &tok, std::size_t &i, const std::string &where);
   void build_obstacles();
   int color_of(int i) const;
@@ -68,13 +74,28 @@ class FixParmecGranular : public state::PerAtomStateFix {
   std::vector<std::array<springs::TimeSeries, 6>> velocity_;  // replaced by fix_modify ... tseries
   std::vector<int> first_triangle_;                           // global triangle index of each obstacle's first
   std::vector<mesh::MeshNeighbors> candidates_;
+  // MESH bodies (keyword 'mesh'): surfaces placed every step from fix parmec/rigid's pose of their atom,
+  // replicated on every rank; their triangle keys follow the obstacles' (body_first_)
+  struct MeshDef {
+    long tag = 0;
+    std::vector<mesh::TriangleNodes> triangles;
+    std::vector<int> colors;
+    mesh::Vec3 centre{0, 0, 0};
+  };
+  std::vector<MeshDef> mesh_defs_;
+  std::unordered_set<long> mesh_tags_;
+  std::vector<parmec_contact::MeshBody> bodies_;
+  std::vector<int> body_first_;
+  std::vector<mesh::MeshNeighbors> body_candidates_;
+  LAMMPS_NS::Fix *rigid_ = nullptr;  // fix parmec/rigid: Λ of the MESH bodies
+  double body_sums_[6] = {0, 0, 0, 0, 0, 0};  // total force and torque of the spheres on the MESH bodies
   int color_property_ = -1;  // index of i_NAME, or -1: the atom type is the colour
   std::string color_name_ = "type";
   LAMMPS_NS::NeighList *list_ = nullptr;
   double clock_ = 0.0;  // Parmec time t_n of the last committed step (accumulated steps, kept in restart files)
   bool started_ = false;
   bool quirks_ = false;  // 'quirks parmec': Parmec's obstacle start, a contact per triangle, a last separating force
-  double counts_[5] = {0, 0, 0, 0, 0};  // local: pair records, obstacle contacts, force on obstacles
+  double counts_[6] = {0, 0, 0, 0, 0, 0};  // local: pair records, obstacle contacts, force on obstacles, MESH contacts
   std::vector<double> scratch_;
 };
 

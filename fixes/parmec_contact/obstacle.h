@@ -45,6 +45,9 @@ class Obstacle {
   // then translation by h v (Parmec obstacles.ispc order).
   void advance(double t, double h);
 
+  // The triangles at a pose computed by the caller (a MESH body's x + Λ(P − X); mesh_body.h).
+  void place(const std::vector<mesh::TriangleNodes> &nodes) { mesh_.place_nodes(nodes); }
+
   // Restart: mesh state (incl. the point) and the current velocities.
   std::vector<double> save() const;
   void restore(const std::vector<double> &buf);

@@ -267,6 +267,19 @@ void TriangleMesh::refresh_geometry()
   for (int t = 0; t < size(); ++t) compute_geometry(t);
 }
 
+void TriangleMesh::place_nodes(const std::vector<TriangleNodes> &nodes)
+{
+  if (nodes.size() != node_.size())
+    throw MeshError("place_nodes: expected " + std::to_string(node_.size()) + " triangles, got " +
+                    std::to_string(nodes.size()));
+  ++version_;
+  node_ = nodes;
+  for (int t = 0; t < size(); ++t) {
+    compute_geometry(t);
+    compute_center_rbound(t);
+  }
+}
+
 int TriangleMesh::attach_point(const Vec3 &p)
 {
   // after restore_state(), points attached later (movers created after the mesh) take their

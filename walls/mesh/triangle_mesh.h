@@ -80,6 +80,10 @@ class TriangleMesh {
   void rotate(double dphi, const Vec3 &axis, const Vec3 &origin);
   // §7.3: edge vectors/lengths, normals, edge normals, obtuse flag, areas from the current nodes.
   void refresh_geometry();
+  // A rigid placement computed by the caller (the triangles of a body at x + Λ(P − X)): every node
+  // replaced, all per-triangle geometry recomputed from them; topology and edge/corner flags kept.
+  // Throws MeshError if the triangle count differs.
+  void place_nodes(const std::vector<TriangleNodes> &nodes);
 
   // Points that move with the mesh (rotation origins of stacked movers, stress reference point).
   int attach_point(const Vec3 &p);

@@ -20,7 +20,7 @@ def _pairing(model):
 
 def contact_particle_estimates(model):
     """{particle: (h, omega, xi)}: for each SPHERE the smallest estimate over the colours it can touch
-    (other spheres: the heaviest of that colour; obstacle triangles), (2/w)(sqrt(1 + xi^2) - xi),
+    (other spheres: the heaviest of that colour; obstacle triangles; MESH faces with m_eff of the body), (2/w)(sqrt(1 + xi^2) - xi),
     w = sqrt(k/m_i), xi = e_n/(2 m_i w), e_n = damper 2 sqrt(k m_eff); spheres that touch nothing are absent."""
     if not model.contact_active():
         return {}
@@ -30,12 +30,14 @@ def contact_particle_estimates(model):
         if p.contact_sphere:
             heaviest[p.color] = max(heaviest.get(p.color, 0.0), p.mass)
     obstacle_colors = {c for ob in model.obstacles for c in ob["colors"]}
+    bodies = [(set(b.triangle_colors), b.mass) for b in model.particles if b.contact_mesh]
     out = {}
     for i, p in enumerate(model.particles):
         if not p.contact_sphere:
             continue
         partners = [(c, 1.0 / (1.0 / p.mass + 1.0 / m)) for c, m in heaviest.items()]
         partners += [(c, p.mass) for c in obstacle_colors]
+        partners += [(c, 1.0 / (1.0 / p.mass + 1.0 / mb)) for colors, mb in bodies for c in colors]
         for c, meff in partners:
             k, damper = pairing(p.color, c)
             if k <= 0.0:

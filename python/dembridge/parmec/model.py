@@ -101,6 +101,11 @@ class Particle:
         """A SPHERE that takes part in GRANULAR contact (not converted by ANALYTICAL)."""
         return self.kind == "SPHERE" and not self.analytical
 
+    @property
+    def contact_mesh(self):
+        """A MESH whose boundary triangles take part in GRANULAR contact with spheres (not converted by ANALYTICAL)."""
+        return self.kind == "MESH" and not self.analytical
+
 
 class Model:
     """State of one Parmec session (RESET() empties it)."""
@@ -288,8 +293,6 @@ class Model:
                 fail(cmd, f"argument 'colors': face {list(nodes_k)!r} is not a boundary face of the mesh")
             face_color[face] = c
             k += f + 2
-        if self.contact_active():
-            self._no_mesh_contact(cmd, adding_mesh=True)
         dens = {i: mat[0] for i, mat in enumerate(self.materials)}
         mass, centre, J, vol = geo.mesh_mass_properties(nodes, elements, dens)
         r = math.sqrt((J[0][0] + J[1][1] + J[2][2]) / 3.0 / (0.4 * mass))
@@ -430,8 +433,6 @@ class Model:
             if v != 0:
                 fail(cmd, f"argument '{n}' = {v!r} is not supported (Parmec's {n} friction is under development "
                           "and has no effect there)")
-        if spring > 0:
-            self._no_mesh_contact(cmd)
         self.granular.append({"color1": color1, "color2": color2, "spring": float(spring), "damper": float(damper),
                               "mus": float(mus), "mud": float(mud), "kskn": float(kskn)})
 
@@ -443,11 +444,24 @@ class Model:
                 default = g["spring"]
         return default > 0 or any(g["spring"] > 0 for g in self.granular)
 
-    def _no_mesh_contact(self, cmd, adding_mesh=False):
-        if adding_mesh or any(p.kind == "MESH" and not p.analytical for p in self.particles):
-            fail(cmd, "contact involving MESH particles is not supported (MESH-MESH contact is out of scope, "
-                      "and not implemented in Parmec either; MESH-SPHERE contact is not implemented); use SPHERE "
-                      "particles and OBSTACLEs for contact")
+    def _no_mesh_mesh_contact(self, cmd):
+        """SPHERE-MESH contact is supported; two MESH particles whose face colours have a pairing with spring > 0
+        are refused (MESH-MESH contact is out of scope, and not implemented in Parmec either). Checked at DEM, when
+        the pairings are final (a later GRANULAR(c1, c2, 0.0) may switch a pair off)."""
+        from .contact_step import _pairing
+        if not self.contact_active():
+            return
+        pairing = _pairing(self)
+        meshes = [(i, sorted(set(p.triangle_colors))) for i, p in enumerate(self.particles) if p.contact_mesh]
+        for a, (i, ci) in enumerate(meshes):
+            for j, cj in meshes[a + 1:]:
+                for c1 in ci:
+                    for c2 in cj:
+                        if pairing(c1, c2)[0] > 0:
+                            fail(cmd, f"MESH particles {i} and {j}: the GRANULAR pairing of their colours ({c1}, {c2}) "
+                                      "has spring > 0, but contact between two MESH particles is not supported (out of "
+                                      "scope, and not implemented in Parmec either); give that colour pair spring 0 "
+                                      "(e.g. GRANULAR(c1, c2, 0.0)) or use SPHEREs")
 
     def VELOCITY(self, parnum, linear=None, angular=None):
         cmd = "VELOCITY"

@@ -85,11 +85,11 @@ class Runner:
         cutoff = max(2.0 * longest + 1.0, 1e-3 * span, 1.0)
         contact = m.contact_active()
         if contact:
-            m._no_mesh_contact("DEM")
-            # fix parmec/granular sizes its check by every atom's radius (bodies without contact keep the radius
-            # of their isotropic inertia); the skin by the contact spheres
-            rmax = max(p.radius for p in P)
+            m._no_mesh_mesh_contact("DEM")
+            # fix parmec/granular needs a pair cutoff of twice the largest contact sphere (bodies without a sphere
+            # shape: colour 0, not counted); the skin by the contact spheres too
             rsph = max((p.radius for p in P if p.contact_sphere), default=0.0)
+            rmax = rsph
             skin = 0.1 * rsph if rsph > 0 else 1e-3
             cutoff = max(cutoff, 2.0 * rmax + 2.0 * skin)
         # with contact the neighbour bins need a box: shrink-wrapped with a minimum extent (m) instead of s
@@ -200,6 +200,14 @@ class Runner:
                     if ob[part] is not None:
                         line += f" {part} " + " ".join(self._obstacle_names[(k, part)])
             out.append(line)
+        # MESH particles: their boundary triangles (reference configuration) follow the atom's pose
+        for i, p in enumerate(m.particles):
+            if p.contact_mesh:
+                xyz = p.nodes
+                coords = " ".join(_r(xyz[3 * n + c]) for t in p.triangles for n in t for c in range(3))
+                out.append(f"mesh {i + 1} {len(p.triangles)} {coords} colors "
+                           + " ".join(str(c) for c in p.triangle_colors)
+                           + " center " + " ".join(_r(v) for v in p.centre))
         return "\n".join(out) + "\n"
 
     def _obstacle_motion(self):

@@ -55,6 +55,15 @@ std::vector<mesh::TriangleNodes> read_triangles(state::EntityWords &w)
   return tris;
 }
 
+// 'KW x y z' (a point or a centre), KW at the next word
+Vec3 read_point(state::EntityWords &w, const std::string &kw)
+{
+  w.next(kw);
+  Vec3 p{0, 0, 0};
+  for (int k = 0; k < 3; k++) p[k] = w.number(w.next(kw + " coordinate"), kw);
+  return p;
+}
+
 // 'color C | colors C1 ... CN' at the next word: read into colors (n triangles); false if another keyword
 bool read_colors(state::EntityWords &w, std::size_t n, std::vector<int> &colors)
 {
@@ -163,8 +172,7 @@ bool FixParmecGranular::parse_obstacle(const std::vector<std::string> &tok, std:
     if (read_colors(w, d.triangles.size(), d.colors)) {
       have_color = true;
     } else if (kw == "point") {
-      w.next("point");
-      for (int k = 0; k < 3; k++) d.point[k] = w.number(w.next("point coordinate"), "point");
+      d.point = read_point(w, kw);
       have_point = true;
     } else if (kw == "linear" || kw == "angular") {
       const int off = kw == "linear" ? 0 : 3;
@@ -197,8 +205,7 @@ bool FixParmecGranular::parse_mesh(const std::vector<std::string> &tok, std::siz
     if (read_colors(w, d.triangles.size(), d.colors)) {
       have_color = true;
     } else if (w.peek() == "center") {
-      w.next("center");
-      for (int k = 0; k < 3; k++) d.centre[k] = w.number(w.next("center coordinate"), "center");
+      d.centre = read_point(w, "center");
       have_centre = true;
     } else {
       break;

@@ -2,18 +2,14 @@
 doc/parmec_front_end.md) through the Parmec front end: closed forms (restitution of the damper ratio on a static
 obstacle and between two spheres with momentum conserved, friction-limited sliding mu*g, rolling 5/7), an
 independent replay of Parmec's leap-frog for the drop, a moving obstacle, 1 vs 2 ranks, restart, bad input."""
-import json
 import math
-import os
-import subprocess
-import sys
 
 import pytest
 
-from dembridge import mpiexec, new_lammps
+from dembridge import new_lammps
 from dembridge.parmec import ParmecError, run_script
+from parmec_contact_runs import fix_error, histories_on_ranks
 
-HERE = os.path.dirname(os.path.abspath(__file__))
 PLANE = "[(-L, -L, 0, L, -L, 0, L, L, 0), (-L, -L, 0, L, L, 0, -L, L, 0)]"  # z = 0, two triangles
 
 
@@ -282,23 +278,7 @@ def test_obstacle_motion_by_callback_or_tseries_over_two_dem_calls(tmp_path):
 def test_one_and_two_ranks_agree(tmp_path):
     """The moving-obstacle pile on 1 and 2 MPI ranks, the spheres sliding at 3 m/s across the rank boundary
     (their contact springs migrate with them): every HISTORY value within 1e-12 (relative)."""
-    driver = tmp_path / "driver.py"
-    script = tmp_path / "pile.py"
-    script.write_text("import math\n" + MOVING)
-    driver.write_text(
-        "import json, sys\nfrom mpi4py import MPI\nfrom dembridge.parmec import run_script\n"
-        "H = run_script(sys.argv[1], ['4', 'slide'])['H']\n"
-        "if MPI.COMM_WORLD.Get_rank() == 0:\n    json.dump(H, open(sys.argv[2], 'w'))\n")
-    env = dict(os.environ, PYTHONPATH=os.path.join(HERE, "..", "..", "python"))
-    out = {}
-    for n in (1, 2):
-        res = tmp_path / f"h{n}.json"
-        cmd = [sys.executable, str(driver), str(script), str(res)]
-        if n > 1:
-            cmd = [mpiexec(), "-n", str(n)] + cmd
-        r = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=900)
-        assert r.returncode == 0, r.stdout + r.stderr
-        out[n] = json.load(open(res))
+    out = histories_on_ranks(tmp_path, MOVING, ["4", "slide"])
     worst = 0.0
     for key in out[1]:
         for a, b in zip(out[1][key], out[2][key]):
@@ -377,14 +357,8 @@ LAMMPS_BAD = [
 
 @pytest.mark.parametrize("defs,message", LAMMPS_BAD, ids=[f"lmp_bad{i}" for i in range(len(LAMMPS_BAD))])
 def test_lammps_bad_input(defs, message):
-    lmp = new_lammps()
-    for c in ["units si", "atom_style sphere", "region b block -1 1 -1 1 -1 1", "create_box 1 b",
-              "create_atoms 1 single 0 0 0", "pair_style zero 0.1", "pair_coeff * *", "comm_modify vel yes"]:
-        lmp.command(c)
-    with pytest.raises(Exception) as e:
-        lmp.command("fix G all parmec/granular " + defs)
-    assert "fix G parmec/granular" in str(e.value) and message in str(e.value), str(e.value)
-    lmp.close()
+    err = fix_error(defs)
+    assert message in err, err
 
 
 def test_lammps_needs_a_pair_cutoff_covering_the_spheres():

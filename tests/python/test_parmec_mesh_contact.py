@@ -3,19 +3,15 @@ doc/fix_parmec_granular.md, doc/parmec_front_end.md): the MESH body's boundary t
 spheres touching them get the GRANULAR law of the obstacles and the reaction goes onto the body.
 References: the same drop on an OBSTACLE with the same triangles, momentum conservation, the two-body
 restitution closed form, the torque r x F of a frictionless impact, 1 vs 2 MPI ranks, restart = split run."""
-import json
 import math
-import os
-import subprocess
-import sys
 
 import pytest
 
-from dembridge import mpiexec, new_lammps
+from dembridge import new_lammps
 from dembridge.parmec import ParmecError, run_script
 from dembridge.parmec import vtk_output
+from parmec_contact_runs import fix_error, histories_on_ranks
 
-HERE = os.path.dirname(os.path.abspath(__file__))
 
 # a 2 x 2 x 1 box, top face z = 0, centre (0, 0, -0.5): an 8-node hexahedron
 BOX_NODES = [-1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1, -1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0]
@@ -152,23 +148,7 @@ DEM(0.1, 2e-5, 0.01)
 def test_one_and_two_ranks_agree(tmp_path):
     """16 spheres sliding and spinning at 3 m/s across a MESH box (restrained to its plane, dragged by them), across
     the rank boundary: every HISTORY value of the spheres and the box on 1 and 2 MPI ranks within 1e-12."""
-    driver = tmp_path / "driver.py"
-    script = tmp_path / "pile.py"
-    script.write_text("import math\n" + PILE)
-    driver.write_text(
-        "import json, sys\nfrom mpi4py import MPI\nfrom dembridge.parmec import run_script\n"
-        "H = run_script(sys.argv[1], [])['H']\n"
-        "if MPI.COMM_WORLD.Get_rank() == 0:\n    json.dump(H, open(sys.argv[2], 'w'))\n")
-    env = dict(os.environ, PYTHONPATH=os.path.join(HERE, "..", "..", "python"))
-    out = {}
-    for n in (1, 2):
-        res = tmp_path / f"h{n}.json"
-        cmd = [sys.executable, str(driver), str(script), str(res)]
-        if n > 1:
-            cmd = [mpiexec(), "-n", str(n)] + cmd
-        r = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=900)
-        assert r.returncode == 0, r.stdout + r.stderr
-        out[n] = json.load(open(res))
+    out = histories_on_ranks(tmp_path, PILE)
     moved = max(abs(v) for v in out[1][-6]) + max(abs(v) for v in out[1][-1])  # the box's VX, OZ
     assert moved > 1e-2, moved
     worst = 0.0
@@ -255,14 +235,8 @@ LAMMPS_BAD = [
 
 @pytest.mark.parametrize("defs,message", LAMMPS_BAD, ids=[f"lmp_bad{i}" for i in range(len(LAMMPS_BAD))])
 def test_lammps_bad_input(defs, message):
-    lmp = new_lammps()
-    for c in ["units si", "atom_style sphere", "region b block -1 1 -1 1 -1 1", "create_box 1 b",
-              "create_atoms 1 single 0 0 0", "pair_style zero 0.1", "pair_coeff * *", "comm_modify vel yes"]:
-        lmp.command(c)
-    with pytest.raises(Exception) as e:
-        lmp.command("fix G all parmec/granular " + defs)
-    assert "fix G parmec/granular" in str(e.value) and message in str(e.value), str(e.value)
-    lmp.close()
+    err = fix_error(defs)
+    assert message in err, err
 
 
 def test_lammps_mesh_bodies_need_fix_parmec_rigid():

@@ -452,8 +452,8 @@ BAD = [
      "prescribed partly or by acceleration"),
     ("OBSTACLE([(0, 0, 0, 1, 0, 0, 0, 1)], 1)", "OBSTACLE: argument 'triangles'"),
     ("GRANULAR(1, 1, -1e5)", "GRANULAR: argument 'spring'"),
-    ("MESH([0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1], [8, 0, 1, 2, 3, 4, 5, 6, 7, m], m, 1)\n"
-     "GRANULAR(1, 1, 1e5)", "GRANULAR: contact involving MESH"),
+    ("MESH([0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1], [8, 0, 1, 2, 3, 4, 5, 6, 7, m], m, 1)\n" * 2
+     + "GRANULAR(1, 1, 1e5)\nDEM(0.01, 0.001)", "the GRANULAR pairing of their colours (1, 1) has spring > 0"),
     ("HISTORY('PQ', p)", "HISTORY: unknown entity"),
     ("HISTORY('PX', 7)", "HISTORY: argument 'source'"),
     ("HISTORY('STROKE', 0)", "HISTORY: argument 'source'"),

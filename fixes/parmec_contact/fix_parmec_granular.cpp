@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <set>
 #include <stdexcept>
 
 using namespace LAMMPS_NS;
@@ -274,17 +275,18 @@ void FixParmecGranular::build_bodies()
 // surfaces touch is refused rather than silently giving no contact.
 void FixParmecGranular::check_mesh_pairs() const
 {
+  std::vector<std::set<int>> colors(bodies_.size());
   for (std::size_t a = 0; a < bodies_.size(); a++)
-    for (std::size_t b = a + 1; b < bodies_.size(); b++) {
-      const pc::Obstacle &sa = bodies_[a].surface(), &sb = bodies_[b].surface();
-      for (int ta = 0; ta < sa.mesh().size(); ta++)
-        for (int tb = 0; tb < sb.mesh().size(); tb++)
-          if (pairings_.find(sa.color(ta), sb.color(tb)).touches())
+    for (int t = 0; t < bodies_[a].surface().mesh().size(); t++) colors[a].insert(bodies_[a].surface().color(t));
+  for (std::size_t a = 0; a < bodies_.size(); a++)
+    for (std::size_t b = a + 1; b < bodies_.size(); b++)
+      for (int ca : colors[a])
+        for (int cb : colors[b])
+          if (pairings_.find(ca, cb).touches())
             error->all(FLERR, fmt::format("{}: MESH bodies {} and {}: the pairing of their colours {} and {} has spring "
                                           "> 0, but contact between two MESH bodies is not implemented (out of scope, as "
                                           "in Parmec): give that colour pair spring 0 or use SPHEREs",
-                                          cmd_, bodies_[a].tag(), bodies_[b].tag(), sa.color(ta), sb.color(tb)));
-    }
+                                          cmd_, bodies_[a].tag(), bodies_[b].tag(), ca, cb));
 }
 
 // ------------------------------------------------------------------------------------------ set-up

@@ -1,5 +1,7 @@
 #include "mesh_body.h"
 
+#include <algorithm>
+
 namespace dembridge::parmec_contact {
 
 void BodyPose::pack(double *out) const
@@ -37,7 +39,11 @@ MeshBody::MeshBody(long tag, std::vector<mesh::TriangleNodes> triangles, std::ve
 
 void MeshBody::place(const BodyPose &pose)
 {
+  // a body at rest keeps its triangles (and the candidate bins built on them)
+  const bool same = placed_once_ && pose.x == pose_.x && std::equal(pose.lambda, pose.lambda + 9, pose_.lambda);
   pose_ = pose;
+  if (same) return;
+  placed_once_ = true;
   const double *L = pose.lambda;
   for (std::size_t t = 0; t < arms_.size(); ++t)
     for (int k = 0; k < 3; ++k) {

@@ -31,7 +31,7 @@ class MeshBody {
   long tag() const { return tag_; }
   const Obstacle &surface() const { return surface_; }  // triangles at the current pose, colours
   const BodyPose &pose() const { return pose_; }
-  // Triangles to x + Λ(P − X).
+  // Triangles to x + Λ(P − X) (kept as they are when x and Λ did not change).
   void place(const BodyPose &pose);
   // Material velocity of the body at p: v + ω × (p − x).
   Vec3 velocity_at(const Vec3 &p) const;
@@ -42,6 +42,7 @@ class MeshBody {
   std::vector<mesh::TriangleNodes> arms_;  // P − X of every node
   std::vector<mesh::TriangleNodes> placed_;
   BodyPose pose_;
+  bool placed_once_ = false;
 };
 
 }  // namespace dembridge::parmec_contact

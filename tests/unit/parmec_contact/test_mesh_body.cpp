@@ -71,3 +71,20 @@ TEST(MeshBody, BadColoursAreRefusedAsForAnObstacle)
   EXPECT_THROW(MeshBody(1, top(), {1}, Vec3{0, 0, 0}), std::invalid_argument);
   EXPECT_THROW(MeshBody(1, top(), {1, 0}, Vec3{0, 0, 0}), std::invalid_argument);
 }
+
+TEST(MeshBody, ABodyAtRestKeepsItsTriangles)
+{
+  MeshBody b(1, top(), {1, 1}, Vec3{0.5, 0.5, 0.5});
+  BodyPose pose;
+  pose.x = {0.5, 0.5, 0.5};
+  b.place(pose);
+  const auto v0 = b.surface().mesh().geometry_version();
+  pose.v = {1.0, 0.0, 0.0};  // velocities change, the pose does not: same triangles, new material velocity
+  b.place(pose);
+  EXPECT_EQ(b.surface().mesh().geometry_version(), v0);
+  EXPECT_DOUBLE_EQ(b.velocity_at(Vec3{0, 0, 0})[0], 1.0);
+  pose.x[2] = 0.75;
+  b.place(pose);
+  EXPECT_NE(b.surface().mesh().geometry_version(), v0);
+  EXPECT_DOUBLE_EQ(b.surface().mesh().node(0, 0)[2], 1.25);
+}

@@ -360,6 +360,9 @@ void FixParmecGranular::place_bodies(std::vector<int> &skip)
     if (color_of(i) > 0)
       error->one(FLERR, fmt::format("{}: mesh {}: the atom of a MESH body must have colour <= 0 (it has no sphere "
                                     "shape), got {}", cmd_, bodies_[b].tag(), color_of(i)));
+    if (!(atom->mask[i] & rigid_->groupbit))
+      error->one(FLERR, fmt::format("{}: mesh {}: the body atom is not in the group of fix {} parmec/rigid (its "
+                                    "rotation places the surface)", cmd_, bodies_[b].tag(), rigid_->id));
     skip[i] = 1;
     pc::BodyPose pose;
     const double *L = rigid_->array_atom[i];

@@ -240,6 +240,8 @@ def test_lammps_bad_input(defs, message):
 
 
 def test_lammps_mesh_bodies_need_fix_parmec_rigid():
+    """A MESH body needs fix parmec/rigid, with its atom in that fix's group (the rotation that places it), and
+    colour <= 0 (no sphere shape)."""
     lmp = new_lammps()
     deck_cmds = ["units si", "atom_style bpm/sphere", "atom_modify map array", "region b block -2 2 -2 2 -2 2",
                  "create_box 2 b", "create_atoms 1 single 0 0 0.2", "create_atoms 2 single 0 0 -0.5",
@@ -251,6 +253,19 @@ def test_lammps_mesh_bodies_need_fix_parmec_rigid():
     with pytest.raises(Exception) as e:
         lmp.command("run 1")
     assert "MESH bodies need fix parmec/rigid" in str(e.value), str(e.value)
+    lmp.command("unfix I")
+    lmp.command("group spheres type 1")
+    lmp.command("fix R spheres parmec/rigid")
+    with pytest.raises(Exception) as e:  # 'color type': the body atom has colour 2
+        lmp.command("run 1")
+    assert "mesh 2: the atom of a MESH body must have colour <= 0" in str(e.value), str(e.value)
+    for c in ["unfix G", "fix PC all property/atom i_pmcolor ghost yes", "set atom 1 i_pmcolor 1",
+              "fix G all parmec/granular color i_pmcolor pairing 1 1 spring 1e6 " + mesh_words(2, color=1),
+              "unfix R", "fix R spheres parmec/rigid"]:
+        lmp.command(c)
+    with pytest.raises(Exception) as e:
+        lmp.command("run 1")
+    assert "mesh 2: the body atom is not in the group of fix R parmec/rigid" in str(e.value), str(e.value)
     lmp.close()
 
 

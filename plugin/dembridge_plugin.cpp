@@ -7,15 +7,24 @@
 #include "comm.h"
 #include "lammps.h"
 #include "modify.h"
+#include "output.h"
 #include "utils.h"
 
 #include <cstdlib>
+#include <cstring>
 
 namespace dembridge {
 std::vector<StyleEntry> &style_registry()
 {
   static std::vector<StyleEntry> entries;
   return entries;
+}
+
+void register_dump_styles(LAMMPS_NS::LAMMPS *lmp)
+{
+  for (const auto &e : style_registry())
+    if (std::strcmp(e.kind, "dump") == 0)
+      (*lmp->output->dump_map)[e.name] = reinterpret_cast<LAMMPS_NS::Output::DumpCreator>(e.v2);
 }
 }  // namespace dembridge
 
@@ -34,6 +43,10 @@ extern "C" __attribute__((visibility("default"))) void lammpsplugin_init(void *l
 
   auto reg = reinterpret_cast<dembridge_regfunc>(regfunc);
   for (const auto &e : dembridge::style_registry()) {
+    if (std::strcmp(e.kind, "dump") == 0) {  // see register_dump_styles()
+      if (first_rank) LAMMPS_NS::utils::logmesg(host, std::string("Loading plugin: ") + e.info + " by dembridge developers\n");
+      continue;
+    }
     if (e.builtin && host->modify->fix_map) {  // remember the built-in fix this style overrides
       auto it = host->modify->fix_map->find(e.name);
       if (it != host->modify->fix_map->end() && reinterpret_cast<void *>(it->second) != reinterpret_cast<void *>(e.v2))
@@ -50,4 +63,5 @@ extern "C" __attribute__((visibility("default"))) void lammpsplugin_init(void *l
     p.handle = handle;
     reg(&p, lmp);
   }
+  dembridge::register_dump_styles(host);
 }

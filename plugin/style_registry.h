@@ -14,17 +14,23 @@ using PairFactory = void *(*)(void *lmp);
 using FixFactory = void *(*)(void *lmp, int narg, char **arg);
 
 struct StyleEntry {
-  const char *kind;  // "pair", "fix", "compute", "command"
+  const char *kind;  // "pair", "fix", "compute", "command", "dump"
   const char *name;
   const char *info;
   PairFactory v1 = nullptr;  // pair, command
-  FixFactory v2 = nullptr;   // fix, compute
+  FixFactory v2 = nullptr;   // fix, compute, dump
   // A fix that also serves the built-in style of the same name (other syntax): the plugin entry
   // stores the built-in's creator here before overriding it, so the fix can delegate to it.
   FixFactory *builtin = nullptr;
 };
 
 std::vector<StyleEntry> &style_registry();
+
+// The plugin loader of LAMMPS 22 Jul 2025 skips dump styles ("not yet implemented") and does not
+// remember them for the next LAMMPS instance of the process or for `clear`: the dump styles are
+// entered into Output's public style map here, by lammpsplugin_init and again by every fix
+// mesh/surface (a mesh dump line always follows one). `plugin unload` does not know them.
+void register_dump_styles(LAMMPS_NS::LAMMPS *lmp);
 
 struct RegisterStyle {
   RegisterStyle(const char *kind, const char *name, const char *info, PairFactory f)

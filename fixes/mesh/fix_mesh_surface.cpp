@@ -32,6 +32,7 @@ FixMeshSurface::FixMeshSurface(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, nar
   const std::string cmd = std::string("fix ") + style + " (id " + id + ")";
   MeshArgs a(lmp, cmd, narg, arg, 3);
   stress_ = std::strcmp(style, "mesh/surface/stress") == 0;
+  register_dump_styles(lmp);  // dump mesh/stl, mesh/vtk in this LAMMPS instance (style_registry.h)
 
   // fixed order as in LIGGGHTS: file F type T, then optional keywords in any order
   a.expect_keyword("file", "file FILENAME type T");

@@ -1,6 +1,9 @@
-// Mesh output for ParaView: legacy VTK polydata (nodes, triangles; per triangle the normal, the
-// mesh index and, when given, the force on it; per node the velocity) and ASCII STL. Several
-// meshes go into one file.
+// Mesh output for ParaView: legacy VTK polydata and ASCII STL, several meshes in one file. Used by
+// fix mesh/dump and by the dump styles mesh/stl and mesh/vtk (fixes/mesh/mesh_output.h).
+//
+// VTK: one triangle per cell, 3 points per triangle (nodes are not shared, as in LIGGGHTS), then
+// the cell and point data chosen by VtkFields. The LIGGGHTS-named fields (dump mesh/vtk keywords)
+// carry LIGGGHTS's array names, so ParaView states made for LIGGGHTS output keep working.
 #pragma once
 
 #include "triangle_mesh.h"
@@ -12,11 +15,27 @@ namespace dembridge::mesh {
 
 struct MeshFrame {
   const TriangleMesh *mesh;
-  std::vector<double> tri_force;  // 3 values per triangle, or empty
+  std::vector<double> tri_force;  // 3 values per triangle (force on it, summed over ranks), or empty
   const char *name;
 };
 
-void write_vtk(std::ostream &os, const std::vector<MeshFrame> &meshes, const char *title);
+struct VtkFields {
+  // fix mesh/dump's set: "mesh" (index of the mesh in the file), "normal", "force", point "velocity"
+  bool mesh_index = true, normal = true, force = true, node_velocity = true;
+  // dump mesh/vtk keywords (LIGGGHTS 3.8 array names)
+  bool stress = false;             // stress: normal_stress_average |f.n|/A, shear_stress_average |f-(f.n)n|/A
+  bool stress_components = false;  // stresscomponents: "stress" = f/A
+  bool triangle_id = false;        // id: "meshid" = triangle id in its mesh (file order, 0-based)
+  bool triangle_index = false;     // index: "index" (the same id: every rank holds the whole mesh)
+  bool triangle_velocity = false;  // vel: "v" = mean of the 3 node velocities
+  bool area = false;               // area: "area"
+  bool active_edges = false;       // aedges: "active_edges" (number of active edges, 0-3)
+  bool active_corners = false;     // acorners: "active_corners"
+  static VtkFields none() { return {false, false, false, false}; }
+};
+
+void write_vtk(std::ostream &os, const std::vector<MeshFrame> &meshes, const char *title,
+               const VtkFields &fields = VtkFields{});
 void write_stl(std::ostream &os, const std::vector<MeshFrame> &meshes);
 
 }  // namespace dembridge::mesh

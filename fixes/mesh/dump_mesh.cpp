@@ -1,0 +1,112 @@
+#include "dump_mesh.h"
+
+#include "mesh_args.h"
+#include "style_registry.h"
+
+#include "comm.h"
+#include "error.h"
+#include "modify.h"
+
+#include <cstring>
+
+using namespace LAMMPS_NS;
+
+namespace dembridge {
+
+namespace {
+
+const char *const vtk_keywords = "stress, stresscomponents, id, index, vel, area, aedges, acorners";
+
+// LIGGGHTS 3.8 keywords for quantities our meshes do not have.
+const char *unsupported_vtk_keyword(const std::string &w)
+{
+  if (w == "wear") return "Finnie wear is not implemented (fix mesh/surface/stress refuses 'wear on')";
+  if (w == "temp") return "meshes carry no temperature (no heat transfer)";
+  if (w == "liquid") return "meshes carry no liquid content";
+  if (w == "owner") return "every rank holds the whole mesh, so a triangle has no owner rank";
+  if (w == "nneighs") return "the neighbour count of LIGGGHTS's parallel mesh is not kept";
+  if (w == "distaa") return "the minimum active edge distance is not kept";
+  return nullptr;
+}
+
+}  // namespace
+
+DumpMesh::DumpMesh(LAMMPS *lmp, int narg, char **arg) : Dump(lmp, narg, arg)
+{
+  out_.vtk = std::strcmp(arg[2], "mesh/vtk") == 0;
+  out_.caller = std::string("dump ") + arg[2] + " (id " + arg[0] + ")";
+  out_.fields = mesh::VtkFields::none();
+  out_.file = arg[4];
+  MeshArgs a(lmp, out_.caller, narg, arg, 5);
+  check_file_name(a);
+  while (!a.done()) {
+    const std::string w = a.word("keyword or mesh ID");
+    if (out_.vtk ? vtk_keyword(a, w) : stl_keyword(a, w)) continue;
+    Fix *f = modify->get_fix_by_id(w);
+    if (!f)
+      a.fail("'" + w + "'", std::string("neither a keyword (") + (out_.vtk ? vtk_keywords : "local, all") +
+                                ") nor the ID of a fix mesh/surface");
+    out_.mesh_ids.push_back(w);
+    check_mesh_ids(lmp, out_);  // a fix, but is it a mesh?
+  }
+  if (out_.vtk) {
+    const mesh::VtkFields &q = out_.fields;
+    if (!(q.stress || q.stress_components || q.triangle_id || q.triangle_index || q.triangle_velocity || q.area ||
+          q.active_edges || q.active_corners))
+      a.fail("quantities", std::string("no dump quantity selected (expected at least one of ") + vtk_keywords + ")");
+  }
+  if (out_.mesh_ids.empty()) {
+    out_.mesh_ids = all_mesh_ids(lmp);
+    if (out_.mesh_ids.empty() && comm->me == 0)
+      error->warning(FLERR, out_.caller + ": no fix mesh/surface defined yet, so the files will hold no triangles");
+  }
+}
+
+void DumpMesh::check_file_name(MeshArgs &a) const
+{
+  const std::string &f = out_.file;
+  if (f.find('%') != std::string::npos) a.fail("file '" + f + "'", "one file for all ranks: '%' is not allowed");
+  if (!out_.vtk && f.find('*') == std::string::npos)
+    a.fail("file '" + f + "'", "expected a name with '*' (one STL file per frame, e.g. post/mesh*.stl), as LIGGGHTS");
+  auto ends_with = [&](const char *s) { return f.size() >= std::strlen(s) && f.compare(f.size() - std::strlen(s), std::string::npos, s) == 0; };
+  if (out_.vtk && (ends_with(".vtp") || ends_with(".pvtp")))
+    a.fail("file '" + f + "'", "XML VTK (.vtp, .pvtp) is not written; use a .vtk name (legacy VTK)");
+}
+
+bool DumpMesh::stl_keyword(MeshArgs &a, const std::string &w)
+{
+  if (w == "local" || w == "all") return true;  // every rank holds the whole mesh: all = local
+  if (w == "ghost") a.fail("keyword 'ghost'", "meshes have no ghost triangles here (every rank holds the whole mesh)");
+  if (w == "binary") a.fail("keyword 'binary'", "binary STL output is not implemented; drop 'binary' for ASCII STL");
+  return false;
+}
+
+bool DumpMesh::vtk_keyword(MeshArgs &a, const std::string &w)
+{
+  mesh::VtkFields &q = out_.fields;
+  if (w == "stress") q.stress = true;
+  else if (w == "stresscomponents") q.stress_components = true;
+  else if (w == "id") q.triangle_id = true;
+  else if (w == "index") q.triangle_index = true;
+  else if (w == "vel") q.triangle_velocity = true;
+  else if (w == "area") q.area = true;
+  else if (w == "aedges") q.active_edges = true;
+  else if (w == "acorners") q.active_corners = true;
+  else if (w == "output") {
+    const std::string mode = a.word("'output' mode");
+    if (mode != "face")
+      a.fail("'output " + mode + "'", "only 'output face' (cell data per triangle) is written");
+  } else if (const char *why = unsupported_vtk_keyword(w))
+    a.fail("keyword '" + w + "'", std::string("not supported: ") + why);
+  else return false;
+  return true;
+}
+
+void DumpMesh::init_style() { check_mesh_ids(lmp, out_); }
+
+void DumpMesh::write() { write_mesh_frame(lmp, out_); }
+
+static RegisterStyle reg_dump_mesh_stl("dump", "mesh/stl", "LIGGGHTS dump mesh/stl (ASCII STL per frame)", create_fix<DumpMesh>);
+static RegisterStyle reg_dump_mesh_vtk("dump", "mesh/vtk", "LIGGGHTS dump mesh/vtk (legacy VTK per frame)", create_fix<DumpMesh>);
+
+}  // namespace dembridge

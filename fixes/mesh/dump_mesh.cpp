@@ -44,7 +44,7 @@ DumpMesh::DumpMesh(LAMMPS *lmp, int narg, char **arg) : Dump(lmp, narg, arg)
     if (out_.vtk ? vtk_keyword(a, w) : stl_keyword(a, w)) continue;
     Fix *f = modify->get_fix_by_id(w);
     if (!f)
-      a.fail("'" + w + "'", std::string("neither a keyword (") + (out_.vtk ? vtk_keywords : "local, all") +
+      a.fail("'" + w + "'", std::string("neither a keyword (") + (out_.vtk ? vtk_keywords : "local, all, binary") +
                                 ") nor the ID of a fix mesh/surface");
     out_.mesh_ids.push_back(w);
     check_mesh_ids(lmp, out_);  // a fix, but is it a mesh?
@@ -77,8 +77,9 @@ bool DumpMesh::stl_keyword(MeshArgs &a, const std::string &w)
 {
   if (w == "local" || w == "all") return true;  // every rank holds the whole mesh: all = local
   if (w == "ghost") a.fail("keyword 'ghost'", "meshes have no ghost triangles here (every rank holds the whole mesh)");
-  if (w == "binary") a.fail("keyword 'binary'", "binary STL output is not implemented; drop 'binary' for ASCII STL");
-  return false;
+  if (w != "binary") return false;
+  out_.binary_stl = true;
+  return true;
 }
 
 bool DumpMesh::vtk_keyword(MeshArgs &a, const std::string &w)

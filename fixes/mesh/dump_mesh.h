@@ -1,6 +1,6 @@
 // dump mesh/stl and dump mesh/vtk: LIGGGHTS 3.8's mesh output lines as real LAMMPS dump styles
 // (doc/fix_mesh_surface.md, "Output"), so a LIGGGHTS deck's dump lines run unchanged:
-//   dump ID group mesh/stl N FILE [local|all] [MESHID ...]
+//   dump ID group mesh/stl N FILE [local|all] [binary] [MESHID ...]
 //   dump ID group mesh/vtk N FILE [output face] KEYWORD ... [MESHID ...]
 // Without mesh IDs: every fix mesh/surface(/stress) defined before the dump. Keywords and mesh
 // IDs in any order. The files are written by mesh_output.h, as those of fix mesh/dump.

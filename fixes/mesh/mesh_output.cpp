@@ -40,9 +40,10 @@ void write_mesh_frame(LAMMPS *lmp, const MeshOutput &out)
   std::string name = out.file;
   if (const auto star = name.find('*'); star != std::string::npos)
     name.replace(star, 1, std::to_string(lmp->update->ntimestep));
-  std::ofstream os(name);
+  std::ofstream os(name, std::ios::out | std::ios::binary);
   if (!os) lmp->error->one(FLERR, out.caller + ": cannot open '" + name + "' for writing");
   if (out.vtk) mesh::write_vtk(os, frames, "dembridge mesh", w);
+  else if (out.binary_stl) mesh::write_stl_binary(os, frames);
   else mesh::write_stl(os, frames);
   if (!os) lmp->error->one(FLERR, out.caller + ": error writing '" + name + "'");
 }

@@ -15,7 +15,8 @@ class LAMMPS;
 namespace dembridge {
 
 struct MeshOutput {
-  bool vtk = true;                      // false: ASCII STL
+  bool vtk = true;                      // false: STL
+  bool binary_stl = false;              // STL only: binary instead of ASCII
   mesh::VtkFields fields;               // VTK only
   std::string file;                     // '*' is replaced by the timestep
   std::vector<std::string> mesh_ids;    // fix mesh/surface(/stress) IDs, in file order

@@ -1,8 +1,9 @@
 """dump mesh/stl and dump mesh/vtk against LIGGGHTS 3.8: the deck mesh_dump_rotating (a stress
 plate turning under four spheres, a paddle turning above them, 2000 steps, output every 500) runs
 in /usr/bin/liggghts and, with only the harness's atom_style/communicate conversion, in LAMMPS +
-plugin on 1 and 2 ranks. Its dump lines are unchanged: `mesh/stl` without mesh IDs (all meshes)
-and with one, `mesh/vtk` with every keyword we support on the plate, and `vel` on all meshes.
+plugin on 1 and 2 ranks. Its dump lines are unchanged: `mesh/stl` without mesh IDs (all meshes),
+with one, and `binary`, `mesh/vtk` with every keyword we support on the plate, and `vel` on all
+meshes.
 
 Compared per frame: the triangles (STL: normal and vertices; VTK: the vertices of every cell) to
 the digits LIGGGHTS prints (%g, 6 significant: 1e-5 relative), and every VTK cell array that both
@@ -13,6 +14,7 @@ One LIGGGHTS quirk is not reproduced: LIGGGHTS computes normal_stress_average an
 shear_stress_average in final_integrate only, so at the first setup (step 0) it writes zeros. We
 write the stresses of the setup forces; at step 0 they are checked against LIGGGHTS's own
 `stress` (F/A) and STL normals n: |S.n| and |S - (S.n)n|, to the 6 digits of the normals."""
+import struct
 from pathlib import Path
 
 import numpy as np
@@ -40,6 +42,14 @@ def read_stl(path):
         elif t[:1] == ["endfacet"]:
             facets.append((normal, verts))
     return facets
+
+
+def read_stl_binary(path):
+    """(n, 12) float32 rows of a binary STL: normal, then the 3 vertices"""
+    data = Path(path).read_bytes()
+    (n,) = struct.unpack_from("<I", data, 80)
+    assert len(data) == 84 + 50 * n
+    return np.array([struct.unpack_from("<12f", data, 84 + 50 * k) for k in range(n)])
 
 
 def read_vtk(path):
@@ -105,6 +115,9 @@ def test_mesh_dump_lines_write_liggghts_triangles_and_cell_data(plugin, liggghts
             assert len(ref) == ntri and len(got) == ntri, (name, step, len(ref), len(got))
             close([f[1] for f in got], [f[1] for f in ref], VERTEX_RTOL, 1e-15)
             close([f[0] for f in got], [f[0] for f in ref], VERTEX_RTOL, 1e-6)
+        ref, got = read_stl_binary(ref_dir / f"bin{step}.stl"), read_stl_binary(got_dir / f"bin{step}.stl")
+        assert ref.shape == (4, 12)
+        close(got, ref, 1e-6, 1e-12)  # float32 of the same doubles, up to their round-off
         for name, ntri in (("plate", 2), ("both", 4)):
             ref, got = read_vtk(ref_dir / f"{name}{step}.vtk"), read_vtk(got_dir / f"{name}{step}.vtk")
             assert ref["triangles"].shape == (ntri, 3, 3)

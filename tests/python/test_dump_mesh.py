@@ -2,10 +2,11 @@
 which meshes a line writes, the '*' in file names, that they write what fix mesh/dump writes (one
 writer), and bad input. The comparison with LIGGGHTS 3.8 itself is tests/oracle/test_mesh_dump_oracle.py."""
 import os
+import struct
 
 from dembridge import ROOT
 
-from test_mesh_fixes import deck_head, error_of, read_stl_nodes, run
+from test_mesh_fixes import deck_head, error_of, flat_nodes, read_stl_nodes, run
 
 PLATE = os.path.join(ROOT, "tests", "data", "liggghts-walls", "mesh", "plate.stl")
 PADDLE = os.path.join(ROOT, "tests", "data", "liggghts-walls", "mesh_move_rotate_paddle", "paddle.stl")
@@ -31,8 +32,10 @@ def test_without_mesh_ids_all_meshes_defined_before_the_dump(tmp_path):
 
 
 def test_vtk_without_star_keeps_the_last_frame_and_stl_equals_fix_mesh_dump(tmp_path):
+    """binary STL: the float32 of the ASCII file's (17-digit) vertices"""
     run(deck_head() + MESHES + [f"dump v all mesh/vtk 5 {tmp_path}/one.vtk vel pad",
                                 f"dump s all mesh/stl 5 {tmp_path}/dump*.stl pad",
+                                f"dump b all mesh/stl 5 {tmp_path}/bin*.stl pad binary",
                                 f"fix f all mesh/dump 5 stl {tmp_path}/fix*.stl pad", "run 10"]).close()
     assert (tmp_path / "dump10.stl").read_text() == (tmp_path / "fix10.stl").read_text()
     nodes_10 = read_stl_nodes(tmp_path / "dump10.stl")
@@ -40,6 +43,10 @@ def test_vtk_without_star_keeps_the_last_frame_and_stl_equals_fix_mesh_dump(tmp_
     i = text.index("POINTS")
     assert [float(c) for c in text[i + 3:i + 3 + 18]] == [c for p in nodes_10 for c in p]
     assert nodes_10 != read_stl_nodes(tmp_path / "dump5.stl")  # the paddle turned in between
+    data = (tmp_path / "bin10.stl").read_bytes()
+    assert struct.unpack_from("<I", data, 80) == (2,) and len(data) == 84 + 2 * 50
+    floats = [c for k in range(2) for c in struct.unpack_from("<12f", data, 84 + 50 * k)[3:]]
+    assert floats == [struct.unpack("<f", struct.pack("<f", c))[0] for c in flat_nodes(nodes_10)]
 
 
 def test_bad_input_gives_errors_naming_the_dump_and_the_argument(tmp_path):
@@ -57,7 +64,6 @@ def test_bad_input_gives_errors_naming_the_dump_and_the_argument(tmp_path):
         "stl without star": (f"dump s all mesh/stl 10 {tmp_path}/m.stl", ["dump mesh/stl (id s)", "file", "'*'"]),
         "per-rank file": (f"dump v all mesh/vtk 10 {tmp_path}/m%.vtk stress", ["file", "'%'"]),
         "xml vtk": (f"dump v all mesh/vtk 10 {tmp_path}/m*.vtp stress", ["file", ".vtk"]),
-        "binary stl": (f"dump s all mesh/stl 10 {s} binary", ["keyword 'binary'", "not implemented"]),
         "ghost": (f"dump s all mesh/stl 10 {s} ghost", ["keyword 'ghost'"]),
         # N is read by LAMMPS's Output before the style exists: its ERROR and the "Last input line"
         "zero interval": (f"dump s all mesh/stl 0 {s}", ["Invalid dump frequency 0", "dump s all mesh/stl 0"]),

@@ -1,6 +1,8 @@
 #include "mesh_writer.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <functional>
 #include <iomanip>
 
@@ -115,6 +117,37 @@ void write_stl(std::ostream &os, const std::vector<MeshFrame> &meshes)
     }
     os << "endsolid " << f.name << '\n';
   }
+}
+
+namespace {
+
+void put_binary(std::ostream &os, const void *p, std::size_t n) { os.write(static_cast<const char *>(p), std::streamsize(n)); }
+
+void put_floats(std::ostream &os, const Vec3 &v)
+{
+  const float f[3] = {float(v[0]), float(v[1]), float(v[2])};
+  put_binary(os, f, sizeof f);
+}
+
+}  // namespace
+
+void write_stl_binary(std::ostream &os, const std::vector<MeshFrame> &meshes)
+{
+  static_assert(sizeof(float) == 4, "STL stores 32-bit floats");
+  char header[80];
+  std::memset(header, ' ', sizeof header);
+  const char title[] = "STL File written by dembridge";
+  std::memcpy(header, title, sizeof title - 1);
+  put_binary(os, header, sizeof header);
+  std::uint32_t n = 0;
+  for (const auto &f : meshes) n += std::uint32_t(f.mesh->size());
+  put_binary(os, &n, sizeof n);
+  const std::uint16_t attribute = 0;
+  each_triangle(meshes, [&](std::size_t, const MeshFrame &f, int t) {
+    put_floats(os, f.mesh->normal(t));
+    for (int k = 0; k < 3; ++k) put_floats(os, f.mesh->node(t, k));
+    put_binary(os, &attribute, sizeof attribute);
+  });
 }
 
 }  // namespace dembridge::mesh

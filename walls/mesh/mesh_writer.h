@@ -37,5 +37,9 @@ struct VtkFields {
 void write_vtk(std::ostream &os, const std::vector<MeshFrame> &meshes, const char *title,
                const VtkFields &fields = VtkFields{});
 void write_stl(std::ostream &os, const std::vector<MeshFrame> &meshes);
+// Binary STL (open the stream in binary mode): 80-byte header, triangle count, per triangle the
+// normal and the 3 vertices as little-endian 32-bit floats and a zero attribute word; all meshes in
+// one solid, as LIGGGHTS's `dump mesh/stl ... binary`. stl_reader.h reads it back.
+void write_stl_binary(std::ostream &os, const std::vector<MeshFrame> &meshes);
 
 }  // namespace dembridge::mesh

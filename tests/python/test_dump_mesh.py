@@ -23,12 +23,13 @@ def test_without_mesh_ids_all_meshes_defined_before_the_dump(tmp_path):
     late = f"fix late all mesh/surface file {PLATE} type 1 move 0 0 -0.01"
     run(deck_head() + MESHES + [f"dump all all mesh/stl 10 {tmp_path}/all*.stl",
                                 f"dump one all mesh/stl 10 {tmp_path}/one*.stl pad",
-                                f"dump v all mesh/vtk 10 {tmp_path}/v*.vtk area", late, "run 10"]).close()
+                                f"dump v all mesh/vtk 10 {tmp_path}/v*.vtk area",
+                                f"dump gone all mesh/stl 10 {tmp_path}/gone*.stl", "undump gone", late, "run 10"]).close()
     assert facets(tmp_path / "all10.stl") == 4  # plate + pad, not 'late' (LIGGGHTS: meshes at the dump line)
     assert facets(tmp_path / "one10.stl") == 2
     assert "POLYGONS 4 16" in (tmp_path / "v10.vtk").read_text()
     assert sorted(os.listdir(tmp_path)) == sorted(f"{p}{s}.{e}" for p, e in (("all", "stl"), ("one", "stl"), ("v", "vtk"))
-                                                  for s in (0, 10))
+                                                  for s in (0, 10))  # none from the undumped dump
 
 
 def test_vtk_without_star_keeps_the_last_frame_and_stl_equals_fix_mesh_dump(tmp_path):

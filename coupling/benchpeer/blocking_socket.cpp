@@ -1,10 +1,9 @@
 #include "blocking_socket.h"
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
+#include "socket_address.h"
+
 #include <netinet/tcp.h>
 #include <sys/socket.h>
-#include <sys/un.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -19,22 +18,18 @@ namespace {
 
 [[noreturn]] void fail(const std::string& what) { throw std::runtime_error(what + ": " + std::strerror(errno)); }
 
-// The address of place, in storage big enough for either family; returns its length.
+// The address of place (the protocol library's, so both speak the same addresses), in storage big
+// enough for either family; returns its length.
 socklen_t address_of(const Place& place, sockaddr_storage& storage) {
   std::memset(&storage, 0, sizeof storage);
   if (place.tcp_port >= 0) {
-    auto* a = reinterpret_cast<sockaddr_in*>(&storage);
-    a->sin_family = AF_INET;
-    a->sin_port = htons(static_cast<std::uint16_t>(place.tcp_port));
-    a->sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    return sizeof(sockaddr_in);
+    const sockaddr_in a = inet_address("127.0.0.1", static_cast<std::uint16_t>(place.tcp_port));
+    std::memcpy(&storage, &a, sizeof a);
+    return sizeof a;
   }
-  auto* a = reinterpret_cast<sockaddr_un*>(&storage);
-  a->sun_family = AF_UNIX;
-  if (place.unix_path.empty() || place.unix_path.size() >= sizeof a->sun_path)
-    throw std::runtime_error("bad unix socket path '" + place.unix_path + "'");
-  std::memcpy(a->sun_path, place.unix_path.c_str(), place.unix_path.size() + 1);
-  return sizeof(sockaddr_un);
+  const sockaddr_un a = unix_address(place.unix_path);
+  std::memcpy(&storage, &a, sizeof a);
+  return sizeof a;
 }
 
 void set_nodelay(const Place& place, int fd) {
@@ -55,14 +50,7 @@ int listen_and_accept(const Place& place, const std::function<void(int)>& on_lis
   if (!tcp) ::unlink(place.unix_path.c_str());
   if (::bind(l, reinterpret_cast<sockaddr*>(&addr), len) != 0) fail("bind");
   if (::listen(l, 1) != 0) fail("listen");
-  int port = -1;
-  if (tcp) {
-    sockaddr_in bound{};
-    socklen_t bl = sizeof bound;
-    getsockname(l, reinterpret_cast<sockaddr*>(&bound), &bl);
-    port = ntohs(bound.sin_port);
-  }
-  on_listening(port);
+  on_listening(tcp ? bound_tcp_port(l) : -1);
   int fd;
   do fd = ::accept(l, nullptr, nullptr);
   while (fd < 0 && errno == EINTR);

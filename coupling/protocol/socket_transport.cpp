@@ -1,8 +1,6 @@
 #include "socket_transport.h"
 
-#include <arpa/inet.h>
 #include <fcntl.h>
-#include <netdb.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <poll.h>
@@ -20,6 +18,7 @@
 
 #include "deadline.h"
 #include "protocol_error.h"
+#include "socket_address.h"
 
 namespace dembridge::mbdyn {
 
@@ -33,32 +32,8 @@ std::string seconds_text(double s) {
   return o.str();
 }
 
-sockaddr_un unix_address(const std::string& path) {
-  sockaddr_un addr{};
-  addr.sun_family = AF_UNIX;
-  if (path.empty() || path.size() >= sizeof(addr.sun_path))
-    throw SystemError("unix socket path '" + path + "': expected 1 to " +
-                      std::to_string(sizeof(addr.sun_path) - 1) + " characters, got " +
-                      std::to_string(path.size()));
-  std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
-  return addr;
-}
-
-sockaddr_in inet_address(const std::string& host, std::uint16_t port) {
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(port);
-  if (inet_pton(AF_INET, host.c_str(), &addr.sin_addr) == 1) return addr;
-  addrinfo hints{};
-  hints.ai_family = AF_INET;
-  hints.ai_socktype = SOCK_STREAM;
-  addrinfo* found = nullptr;
-  const int rc = getaddrinfo(host.c_str(), nullptr, &hints, &found);
-  if (rc != 0 || !found)
-    throw SystemError("cannot resolve host '" + host + "': " + gai_strerror(rc));
-  addr.sin_addr = reinterpret_cast<sockaddr_in*>(found->ai_addr)->sin_addr;
-  freeaddrinfo(found);
-  return addr;
+std::string progress_text(bool receiving, std::size_t done, std::size_t n) {
+  return (receiving ? "received " : "sent ") + std::to_string(done) + " of " + std::to_string(n) + " bytes";
 }
 
 void set_tcp_options(int fd) {
@@ -191,25 +166,30 @@ void SocketTransport::quick_ack() {
   setsockopt(fd_, IPPROTO_TCP, TCP_QUICKACK, &one, sizeof one);
 }
 
-void SocketTransport::recv_failed(long rc, int err, const Deadline& deadline, double timeout_s,
-                                  const std::string& what, std::size_t got, std::size_t n) {
-  if (rc == 0)
+void SocketTransport::wait_ready(short events, const Deadline& deadline, double timeout_s, const std::string& what,
+                                 std::size_t done, std::size_t n) {
+  if (wait_for(fd_, events, deadline)) return;
+  const bool in = events == POLLIN;
+  throw TimeoutError("timed out after " + seconds_text(timeout_s) + (in ? " waiting for " : " sending ") + what +
+                     (in ? " from" : " to") + " MBDyn (" + description_ + "): " + progress_text(in, done, n));
+}
+
+void SocketTransport::io_failed(long rc, int err, short events, const Deadline& deadline, double timeout_s,
+                                const std::string& what, std::size_t done, std::size_t n) {
+  const bool in = events == POLLIN;
+  if (in && rc == 0)
     throw PeerClosedError("MBDyn closed the connection (" + description_ + ") while " + what +
-                          " was expected: received " + std::to_string(got) + " of " +
-                          std::to_string(n) + " bytes");
+                          " was expected: " + progress_text(in, done, n));
   if (err == EINTR) return;
-  if (err == EAGAIN || err == EWOULDBLOCK) {
-    if (!wait_for(fd_, POLLIN, deadline))
-      throw TimeoutError("timed out after " + seconds_text(timeout_s) + " waiting for " + what +
-                         " from MBDyn (" + description_ + "): received " + std::to_string(got) +
-                         " of " + std::to_string(n) + " bytes");
-    return;
-  }
-  if (err == ECONNRESET)
+  if (err == EAGAIN || err == EWOULDBLOCK) return wait_ready(events, deadline, timeout_s, what, done, n);
+  if (in && err == ECONNRESET)
     throw PeerClosedError("MBDyn reset the connection (" + description_ + ") while " + what +
-                          " was expected: received " + std::to_string(got) + " of " +
-                          std::to_string(n) + " bytes");
-  throw SystemError("recv() of " + what + " from " + description_ + ": " + errno_text(err));
+                          " was expected: " + progress_text(in, done, n));
+  if (!in && (err == EPIPE || err == ECONNRESET))
+    throw PeerClosedError("MBDyn closed the connection (" + description_ + ") while sending " + what + ": " +
+                          progress_text(in, done, n));
+  throw SystemError((in ? "recv() of " : "send() of ") + what + (in ? " from " : " to ") + description_ + ": " +
+                    errno_text(err));
 }
 
 void SocketTransport::read_exact(void* buffer, std::size_t n, double timeout_s, const std::string& what) {
@@ -223,7 +203,7 @@ void SocketTransport::read_exact(void* buffer, std::size_t n, double timeout_s, 
     if (rc > 0)
       got += static_cast<std::size_t>(rc);
     else
-      recv_failed(rc, errno, deadline, timeout_s, what, got, n);
+      io_failed(rc, errno, POLLIN, deadline, timeout_s, what, got, n);
   }
 }
 
@@ -237,11 +217,10 @@ void SocketTransport::read_message(std::uint8_t& cmd, void* payload, std::size_t
   bool have_cmd = false;
   while (!have_cmd || got < n) {
     quick_ack();
-    if (!wait_for(fd_, POLLIN, deadline))
-      throw TimeoutError("timed out after " + seconds_text(timeout_s) + " waiting for " +
-                         (have_cmd ? what_payload : what_command) + " from MBDyn (" + description_ +
-                         "): received " + std::to_string(have_cmd ? got : 0) + " of " +
-                         std::to_string(have_cmd ? n : 1) + " bytes");
+    if (have_cmd)
+      wait_ready(POLLIN, deadline, timeout_s, what_payload, got, n);
+    else
+      wait_ready(POLLIN, deadline, timeout_s, what_command, 0, 1);
     ssize_t rc;
     if (!have_cmd) {
       iovec v[2] = {{&cmd, 1}, {p, n}};
@@ -264,9 +243,9 @@ void SocketTransport::read_message(std::uint8_t& cmd, void* payload, std::size_t
     }
     const int err = errno;
     if (have_cmd)
-      recv_failed(rc, err, deadline, timeout_s, what_payload, got, n);
+      io_failed(rc, err, POLLIN, deadline, timeout_s, what_payload, got, n);
     else
-      recv_failed(rc, err, deadline, timeout_s, what_command, 0, 1);
+      io_failed(rc, err, POLLIN, deadline, timeout_s, what_command, 0, 1);
   }
 }
 
@@ -282,20 +261,7 @@ void SocketTransport::write_all(const void* buffer, std::size_t n, double timeou
       sent += static_cast<std::size_t>(rc);
       continue;
     }
-    const int err = errno;
-    if (err == EINTR) continue;
-    if (err == EAGAIN || err == EWOULDBLOCK) {
-      if (!wait_for(fd_, POLLOUT, deadline))
-        throw TimeoutError("timed out after " + seconds_text(timeout_s) + " sending " + what +
-                           " to MBDyn (" + description_ + "): sent " + std::to_string(sent) +
-                           " of " + std::to_string(n) + " bytes");
-      continue;
-    }
-    if (err == EPIPE || err == ECONNRESET)
-      throw PeerClosedError("MBDyn closed the connection (" + description_ + ") while sending " +
-                            what + ": sent " + std::to_string(sent) + " of " + std::to_string(n) +
-                            " bytes");
-    throw SystemError("send() of " + what + " to " + description_ + ": " + errno_text(err));
+    io_failed(rc, errno, POLLOUT, deadline, timeout_s, what, sent, n);
   }
 }
 
@@ -329,12 +295,7 @@ SocketListener::SocketListener(const Endpoint& endpoint) : endpoint_(endpoint) {
     fd_ = -1;
     throw SystemError("cannot listen on " + endpoint.describe() + ": " + errno_text(err));
   }
-  if (tcp) {
-    sockaddr_in bound{};
-    socklen_t len = sizeof bound;
-    getsockname(fd_, reinterpret_cast<sockaddr*>(&bound), &len);
-    bound_port_ = ntohs(bound.sin_port);
-  }
+  if (tcp) bound_port_ = bound_tcp_port(fd_);
 }
 
 SocketListener::SocketListener(SocketListener&& o) noexcept

@@ -62,10 +62,15 @@ class SocketTransport {
   const std::string& description() const { return description_; }
 
  private:
-  // After a recv that returned rc <= 0 (errno err) with got of n bytes of what read: returns to
-  // retry (EINTR, or data announced by poll within the deadline); throws otherwise.
-  void recv_failed(long rc, int err, const Deadline& deadline, double timeout_s, const std::string& what,
-                   std::size_t got, std::size_t n);
+  // Waits in poll() for events (POLLIN: reading, POLLOUT: writing) on a transfer of n bytes of
+  // what, done so far; throws TimeoutError at the deadline. The wording of every transfer error
+  // is here and in io_failed, once for reads and writes.
+  void wait_ready(short events, const Deadline& deadline, double timeout_s, const std::string& what, std::size_t done,
+                  std::size_t n);
+  // After a recv (events POLLIN) or send (POLLOUT) that returned rc (errno err): returns to retry
+  // (EINTR, or the socket ready again within the deadline); throws otherwise.
+  void io_failed(long rc, int err, short events, const Deadline& deadline, double timeout_s, const std::string& what,
+                 std::size_t done, std::size_t n);
   void quick_ack();
   int fd_ = -1;
   bool tcp_ = false;

@@ -12,6 +12,7 @@
 #include "pair.h"
 #include "timer.h"
 #include "update.h"
+#include "utils.h"
 
 #include "peer_session.h"
 #include "protocol_error.h"
@@ -24,6 +25,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <limits>
 #include <sstream>
 
 using namespace LAMMPS_NS;
@@ -153,7 +155,7 @@ std::string num(double v)
 const char *kKeywords =
     "path, port, host, create, coupling, orientation, labels, accelerations, reference_node, node, "
     "substeps, mbdyn_dt, loads, predictor, startup_exchange, gravity, connect_timeout, io_timeout, tolerance, "
-    "max_iterations";
+    "max_iterations, profile";
 
 }  // namespace
 
@@ -257,6 +259,8 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
       if (tolerance_ < 0) error->all(FLERR, prefix + "keyword 'tolerance' expects a tolerance >= 0, got " + arg[i]);
     } else if (kw == "max_iterations") {
       max_iterations_ = static_cast<int>(parse_int(kw, value("a positive integer"), prefix, error, "a positive integer", 1));
+    } else if (kw == "profile") {
+      if (parse_yes_no(kw, value("yes or no"), prefix, error)) profile_.enable();
     } else {
       error->all(FLERR, prefix + "unknown keyword '" + kw + "'; expected one of " + kKeywords);
     }
@@ -346,6 +350,15 @@ const std::string &here()
   static const std::string file = __FILE__;
   return file;
 }
+}  // namespace
+
+namespace {
+// Ends a profiled phase on every way out of a fix call (returns and errors alike).
+struct PhaseEnd {
+  ExchangeProfile &profile;
+  ExchangeProfile::Phase phase;
+  ~PhaseEnd() { profile.lap(phase); }
+};
 }  // namespace
 
 std::string FixMBDyn::where() const { return std::string("Fix mbdyn (id ") + id + ")"; }
@@ -701,8 +714,19 @@ void FixMBDyn::apply_pose(const std::vector<Pose> &poses, bool set_x)
   if (set_x)
     for (std::size_t k = 0; k < nodes_.size(); ++k)
       if (nodes_[k].is_mesh) meshes_[nodes_[k].mesh].move_to(poses[k].x, poses[k].R, poses[k].v, poses[k].w);
-  // remap only where it can change x: a periodic dimension, or a triclinic box's round trip
+  // remap only where it can change x: a periodic dimension, or a triclinic box's round trip; an
+  // orthogonal box's remap leaves a position inside [lo, hi) as it is, so those skip the call
   const bool remap = domain->xperiodic || domain->yperiodic || domain->zperiodic || domain->triclinic;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const int periodic[3] = {domain->xperiodic, domain->yperiodic, domain->zperiodic};
+  double lo[3], hi[3];  // [lo, hi) of the periodic dimensions, everything in the others
+  for (int c = 0; c < 3; ++c) {
+    lo[c] = periodic[c] ? domain->boxlo[c] : -inf;
+    hi[c] = periodic[c] ? domain->boxhi[c] : inf;
+  }
+  auto inside = [&](const double *xi) {
+    return xi[0] >= lo[0] && xi[0] < hi[0] && xi[1] >= lo[1] && xi[1] < hi[1] && xi[2] >= lo[2] && xi[2] < hi[2];
+  };
   auto move = [&](int i, const Member &m) {
     const Pose &P = poses[m.node];
     const bool on_point = m.r[0] == 0.0 && m.r[1] == 0.0 && m.r[2] == 0.0;  // node atom: R r = 0
@@ -711,7 +735,7 @@ void FixMBDyn::apply_pose(const std::vector<Pose> &poses, bool set_x)
     if (set_x) {
       for (int c = 0; c < 3; ++c) x[i][c] = P.x[c] + Rr[c];
       atom->image[i] = image0;
-      if (remap) domain->remap(x[i], atom->image[i]);
+      if (remap && (domain->triclinic || !inside(x[i]))) domain->remap(x[i], atom->image[i]);
     }
     for (int c = 0; c < 3; ++c) v[i][c] = P.v[c] + wxr[c];
     if (omega && rot)
@@ -740,11 +764,20 @@ void FixMBDyn::accumulate_loads(const std::vector<Pose> &poses, std::vector<doub
   std::vector<double> &local = local_loads_;
   double **x = atom->x, **f = atom->f;
   double **torque = atom->torque_flag ? atom->torque : nullptr;
-  // minimum_image changes nothing without a periodic dimension
+  // minimum_image changes nothing without a periodic dimension, nor (orthogonal box) an arm within
+  // half the box in every periodic dimension: the common case skips the call
   const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const bool triclinic = domain->triclinic != 0;
+  const double half[3] = {domain->xperiodic ? domain->prd_half[0] : inf, domain->yperiodic ? domain->prd_half[1] : inf,
+                          domain->zperiodic ? domain->prd_half[2] : inf};
+  auto wrap = [&](double *d) {
+    if (triclinic || std::fabs(d[0]) > half[0] || std::fabs(d[1]) > half[1] || std::fabs(d[2]) > half[2])
+      domain->minimum_image(here(), __LINE__, d);
+  };
   auto add = [&](int i, int k) {
     double d[3] = {x[i][0] - poses[k].x[0], x[i][1] - poses[k].x[1], x[i][2] - poses[k].x[2]};
-    if (periodic) domain->minimum_image(here(), __LINE__, d);
+    if (periodic) wrap(d);
     const V3 m = cross(d, f[i]);
     for (int c = 0; c < 3; ++c) {
       local[6 * k + c] += f[i][c];
@@ -760,7 +793,7 @@ void FixMBDyn::accumulate_loads(const std::vector<Pose> &poses, std::vector<doub
       double *slot = &local[6 * k];
       if (i >= 0 && i < atom->nlocal && atom->tag[i] == tm.first) {
         double d[3] = {x[i][0] - poses[k].x[0], x[i][1] - poses[k].x[1], x[i][2] - poses[k].x[2]};
-        if (periodic) domain->minimum_image(here(), __LINE__, d);
+        if (periodic) wrap(d);
         const V3 m = cross(d, f[i]);
         for (int c = 0; c < 3; ++c) {
           slot[c] = 0.0 + f[i][c];
@@ -934,6 +967,7 @@ void FixMBDyn::setup_pre_exchange()
 
 void FixMBDyn::setup(int)
 {
+  profile_.start_run();
   if (!t0_answer_pending_ || ended_) return;
   std::vector<double> loads;
   accumulate_loads(cur_, loads);
@@ -958,6 +992,9 @@ void FixMBDyn::setup(int)
 void FixMBDyn::post_integrate()
 {
   if (!bound_) return;
+  profile_.start_step();
+  profile_.begin();
+  const PhaseEnd pose_end{profile_, ExchangeProfile::Pose};  // everything after the receive
   if (ended_) {
     apply_pose(cur_, true);
     return;
@@ -968,6 +1005,7 @@ void FixMBDyn::post_integrate()
       mbdyn_step_ = 1;
     } else {
       const Message m = receive_broadcast("MBDyn's kinematics of its next step");
+      profile_.lap(ExchangeProfile::Receive);
       if (m.status == 1) {
         stop_run_at_end(m);
         apply_pose(cur_, true);
@@ -1017,6 +1055,8 @@ void FixMBDyn::reevaluate_forces(int vflag)
 void FixMBDyn::post_force(int vflag)
 {
   if (in_reeval_ || !bound_ || ended_ || substep_ == 0) return;
+  profile_.begin();
+  const PhaseEnd loads_end{profile_, ExchangeProfile::Loads};
   std::vector<double> &loads = step_loads_;  // reused: no allocation per step
   accumulate_loads(cur_, loads);
   if (substep_ < substeps_) {
@@ -1055,7 +1095,9 @@ void FixMBDyn::post_force(int vflag)
       MPI_Bcast(&converged, 1, MPI_INT, 0, world);  // rank 0 decides (spec P5)
       send_answer(average(loads), converged != 0, converged ? "the converged loads (tight)" : "the loads of an iterate (tight)");
       if (converged) break;
+      profile_.lap(ExchangeProfile::Loads);
       const Message m = receive_broadcast("MBDyn's next iterate (tight)");
+      profile_.lap(ExchangeProfile::Receive);
       if (m.status == 1) {
         stop_run_at_end(m);
         return;
@@ -1081,7 +1123,15 @@ void FixMBDyn::post_force(int vflag)
 void FixMBDyn::end_of_step()
 {
   // Integrators must not move coupled atoms; if one did, its velocities are reset here.
-  if (bound_ && others_move_coupled_) apply_pose(cur_, false);
+  if (!bound_ || !others_move_coupled_) return;
+  profile_.begin();
+  const PhaseEnd end{profile_, ExchangeProfile::EndOfStep};
+  apply_pose(cur_, false);
+}
+
+void FixMBDyn::post_run()
+{
+  if (comm->me == 0 && profile_.enabled()) utils::logmesg(lmp, profile_.summary(where()));
 }
 
 double FixMBDyn::compute_vector(int i)

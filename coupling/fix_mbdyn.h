@@ -13,6 +13,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "exchange_profile.h"
 #include "mbdyn_mesh_driver.h"
 
 namespace dembridge::mbdyn {
@@ -38,6 +39,7 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   void post_integrate() override;
   void post_force(int vflag) override;
   void end_of_step() override;
+  void post_run() override;
 
   double compute_vector(int i) override;
   double compute_array(int i, int j) override;
@@ -136,6 +138,7 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   int last_iterations_ = 0;
   long long messages_ = 0;
   long long exchanges_ = 0;
+  ExchangeProfile profile_;  // profile yes: the fix's own time per phase, logged after each run
 };
 
 }  // namespace dembridge

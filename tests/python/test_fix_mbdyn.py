@@ -274,9 +274,9 @@ def test_spring_mass_over_tcp_and_with_create_no(sockdir):
 def test_split_runs_and_integrated_coupled_atom_change_nothing(sockdir):
     """Two `run` commands that split an MBDyn step (502 + 1498 LAMMPS steps, N = 4) continue the
     coupling exactly; a coupled atom also integrated by fix nve/sphere gets a warning and its motion
-    is still MBDyn's."""
+    is still MBDyn's; `profile yes` changes no exchanged value and reports each run's figures."""
     ref = spring_mass_error(sockdir, 0.004, substeps=4)[1]
-    for change in ("split", "integrated"):
+    for change in ("split", "integrated", "profile"):
         sock = os.path.join(sockdir, "s.sock")
         traj = os.path.join(sockdir, f"{change}.txt")
         peer = Peer(sock, "--nodes", "1", "--orientation", "none", "--steps", "500", "--dt", "0.004",
@@ -284,6 +284,8 @@ def test_split_runs_and_integrated_coupled_atom_change_nothing(sockdir):
         deck = spring_mass_deck(sock, 0.001, 4, 2000)
         if change == "split":
             deck = deck.replace("run 2000", "run 502\nrun 1498")
+        elif change == "profile":
+            deck = deck.replace("io_timeout 20", "io_timeout 20 profile yes").replace("run 2000", "run 502\nrun 1498")
         else:
             deck = deck.replace("fix S all", "fix I all nve/sphere\nfix S all")
         rc, out, _ = run_lammps(deck, sockdir)
@@ -291,6 +293,15 @@ def test_split_runs_and_integrated_coupled_atom_change_nothing(sockdir):
         assert rc == 0 and prc == 0, out[-2000:] + pout
         if change == "integrated":
             assert "fix I (style nve/sphere) integrates 1 coupled atoms" in out
+        if change == "profile":
+            lines = [l for l in out.splitlines() if l.startswith("Fix mbdyn (id M) profile:")]
+            assert [l.split(",")[0] for l in lines] == ["Fix mbdyn (id M) profile: 502 steps",
+                                                       "Fix mbdyn (id M) profile: 1498 steps"], out[-3000:]
+            for l, steps in zip(lines, (502, 1498)):
+                timed = int(l.split(" timed;")[0].split()[-1])
+                cpu = float(l.split("fix cpu ")[1].split()[0])
+                run_cpu = float(l.split("run cpu ")[1].split()[0])
+                assert 0 < timed < steps and 0 < cpu and 0 < run_cpu, l  # one step in 8 timed on average
         assert read_traj(traj) == ref, change
 
 
@@ -541,6 +552,7 @@ BAD = {
     "no_socket": ("path ", "nopath ", ["unknown keyword 'nopath'"]),
     "bad_mbdyn_dt": ("substeps 1", "mbdyn_dt 0.0015", ["integer multiple of the LAMMPS timestep"]),
     "bad_predictor": ("substeps 1", "substeps 1 predictor taylor", ["keyword 'predictor' expects mbdyn or correct", "'taylor'"]),
+    "bad_profile": ("substeps 1", "substeps 1 profile maybe", ["keyword 'profile' expects yes or no", "'maybe'"]),
     "startup_loose": ("substeps 1", "substeps 1 startup_exchange no", ["'startup_exchange no' is for coupling tight"]),
     "unknown_mesh": ("node atom 1", "node mesh nomesh", ["node mesh nomesh"]),
     "mesh_without_stress": ("fix M all mbdyn", "fix nomesh all mesh/surface file "

@@ -1,4 +1,5 @@
-"""MBDyn exchange benchmark (issue 12, P5): what fix mbdyn adds per exchange over the bare socket round trip.
+"""MBDyn exchange benchmark (issue 12, P5): what fix mbdyn adds per exchange over the bare socket round trip, and its
+share of the step in a coupled run of 10^4 particles.
 
 Every figure is taken against the same fast native peer, `mbdyn_bench_peer serve` (coupling/benchpeer/): MBDyn's side
 of `external structural` (100 nodes, orientation matrix, loose coupling), which answers instantly with one prebuilt
@@ -9,18 +10,22 @@ run below, so it cancels.
   exchange         = LAMMPS loop time per step with fix mbdyn (100 atoms driven by the 100 nodes) minus the same deck
                      without the fix
   added            = exchange - bare round trip                 (P5: <= 15 us, Unix and TCP)
-  share            = (coupled - plain) / coupled loop time for a 10^4-particle granular bed of which 100 atoms are
-                     coupled (P5: <= 2 %), plain and coupled in the same round
+  share            = the fix's own CPU (and wall) time per step over the coupled run's, in a static dense bed of
+                     10 648 spheres (six contacts each, periodic box) plus the 100 coupled atoms, from the fix's
+                     `profile yes` line (P5: <= 2 %); also coupled minus plain deck, fair now: the bed evolves
+                     bit-identically with and without the fix (checked: kinetic energy), and no other fix touches the
+                     coupled atoms (checked: no fix mbdyn warning)
 Wall and CPU time of LAMMPS are taken inside one process (the Python module): getrusage user + system and the clock
 around `run N pre no post no` after a warm-up run, so start-up, connection and the t0 exchange stay outside; the
 client's the same way around its loop (Linux keeps user + system exact; LAMMPS' "% CPU use" is tick-sampled). Rounds are
-interleaved (bare, plain, coupled per socket) and `uptime` is printed with each. Callgrind (load-independent): Ir of
+interleaved (bare, plain, coupled, big plain, big coupled per socket, the order reversed every other round), every run
+records the 1-minute load before it, and the tables give medians with their range. Callgrind (load-independent): Ir of
 LAMMPS' Verlet::run per step, coupled minus plain, and the inclusive Ir of fix mbdyn's per-step entry points, at 100
 nodes and in the 10^4 bed (their share of the coupled step). strace -c: system calls per exchange of the LAMMPS
 process (coupled runs of two lengths, differenced).
 
 usage: .venv/bin/python bench/run_mbdyn_exchange_bench.py [--build build] [--plugin PATH] [--rounds 3] [--steps 2000]
-       [--big-steps 100] [--callgrind-steps 400] [--no-wall] [--no-callgrind] [--no-strace] [--library]
+       [--big-steps 200] [--callgrind-steps 400] [--no-wall] [--no-callgrind] [--no-strace] [--library]
 --library also prints the protocol library's own ExchangeCost figures (unit_mbdyn, against mbdyn_testpeer; issue 6).
 """
 import argparse
@@ -33,7 +38,9 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 NODES = 100
-ORIGIN, SPACING = "0,0,-0.1", "0.02,0,0"  # node k at (0.02 k, 0, -0.1): where the deck's type-2 atoms are
+LATTICE = 0.0099  # bed lattice constant: spheres of diameter 0.01 overlap by 1 %
+NODE_X, NODE_DX = (0.0005, 0.0005, 0.0005), (0.002, 0.002, 0.002)  # node k at NODE_X + k NODE_DX: the deck's type-2 atoms
+ORIGIN, SPACING = ",".join(map(repr, NODE_X)), ",".join(map(repr, NODE_DX))
 TOGGLE = "LAMMPS_NS::Verlet::run(int)"
 
 
@@ -49,29 +56,33 @@ def raw_lmp():
     return os.path.join(out, "lmp")
 
 
-def fix_deck(sock, natoms, steps, plugin, coupled):
-    """100 atoms driven by the MBDyn nodes (type 2, outside any interaction); with natoms > 100 also a
-    touching cubic bed of about natoms spheres with granular contacts (type 1)."""
-    lines = [f"plugin load {plugin}", "units si", "atom_style sphere", "boundary m m m", "atom_modify map array",
-             "comm_modify vel yes", "newton off"]
-    first = 1
+def fix_deck(sock, natoms, steps, plugin, coupled, profile=False):
+    """100 atoms driven by the MBDyn nodes (type 2, IDs 1-100, excluded from every interaction, on the box's
+    diagonal; a fixed box when they are alone); with natoms > 100 also a dense bed of about natoms spheres (type 1, created after the nodes, so the
+    nodes' IDs do not depend on the lattice's atom count): a simple cubic lattice, 1 % overlap, filling a periodic
+    box, so every sphere has six contacts with history and the bed stays static; the cost per step is the same in
+    every window (an open bed explodes and its cost falls as contacts end). The bed evolves bit-identically with
+    and without the fix (the bench checks its kinetic energy), so coupled minus plain is the fix's cost alone."""
+    n = round(natoms ** (1 / 3)) if natoms > NODES else 22
+    side = n * LATTICE
+    # the 100-node deck keeps a fixed (non-periodic) box, as in the earlier P5 figures
+    boundary = "p p p" if natoms > NODES else "f f f"
+    lines = [f"plugin load {plugin}", "units si", "atom_style sphere", f"boundary {boundary}", "atom_modify map array",
+             "comm_modify vel yes", "newton off", f"region box block 0 {side!r} 0 {side!r} 0 {side!r} units box",
+             "create_box 2 box"]
+    lines += [f"create_atoms 2 single {NODE_X[0] + NODE_DX[0] * k!r} {NODE_X[1] + NODE_DX[1] * k!r} "
+              f"{NODE_X[2] + NODE_DX[2] * k!r} units box" for k in range(NODES)]
     if natoms > NODES:
-        n = round(natoms ** (1 / 3))
-        first = n ** 3 + 1
-        lines += ["lattice sc 0.0099", "region box block -0.1 2.1 -0.1 0.3 -0.2 0.3 units box", "create_box 2 box",
-                  f"region bed block 0 {n} 0 {n} 0 {n}", "create_atoms 1 region bed",
+        lines += [f"lattice sc {LATTICE}", "create_atoms 1 region box",
                   "pair_style gran/hooke/history 2e5 NULL 50 NULL 0.5 0", "pair_coeff * *",
-                  "neighbor 0.002 bin", "neigh_modify exclude type 1 2 exclude type 2 2 binsize 0.02"]
-    else:
-        lines += ["region box block -0.1 2.1 -0.1 0.3 -0.2 0.3 units box", "create_box 2 box"]
-    lines += [f"create_atoms 2 single {0.02 * k} 0 -0.1 units box" for k in range(NODES)]
-    if natoms > NODES:
-        lines += ["group nodes type 2", "group bed subtract all nodes", "fix I bed nve/sphere"]
+                  "neighbor 0.002 bin", "neigh_modify exclude type 1 2 exclude type 2 2",
+                  "group nodes type 2", "group bed subtract all nodes", "fix I bed nve/sphere"]
     lines += ["set group all diameter 0.01 density 2500", "timestep 1e-5"]
     if coupled:
-        nodes = " ".join(f"node atom {first + k}" for k in range(NODES))
+        nodes = " ".join(f"node atom {1 + k}" for k in range(NODES))
         where = f"path {sock}" if not sock.isdigit() else f"port {sock}"
-        lines += [f"fix M all mbdyn {where} {nodes} orientation matrix connect_timeout 60 io_timeout 60"]
+        lines += [f"fix M all mbdyn {where} {nodes} orientation matrix connect_timeout 60 io_timeout 60" +
+                  (" profile yes" if profile else "")]
     lines += ["thermo 0", f"run {steps}"]
     return "\n".join(lines) + "\n"
 
@@ -104,7 +115,8 @@ class Bench:
             raise RuntimeError("mbdyn_bench_peer serve failed: " + out)
 
     def bare(self, kind, steps):
-        """(wall us, cpu us) per exchange of the bare client."""
+        """{wall, cpu: us per exchange, load} of the bare client."""
+        load = load1()
         sock, where = self.where(kind)
         p = self.start_peer(where, steps + 1)
         r = subprocess.run([self.peer_exe, "client"] + where + ["--nodes", str(NODES)], capture_output=True, text=True,
@@ -113,7 +125,7 @@ class Bench:
         m = re.search(r"(\d+) exchanges, wall ([\d.]+) us, cpu ([\d.]+) us", r.stdout)
         if r.returncode != 0 or not m or int(m.group(1)) != steps:
             raise RuntimeError("bare client: " + r.stdout + r.stderr)
-        return float(m.group(2)), float(m.group(3))
+        return dict(wall=float(m.group(2)), cpu=float(m.group(3)), load=load)
 
     def lammps(self, kind, natoms, steps, coupled, prefix=()):
         """(LAMMPS loop wall us per step, CPU seconds of the whole process from wait4: user + system, which Linux
@@ -140,33 +152,70 @@ class Bench:
         loop = float(re.findall(r"Loop time of ([0-9.eE+-]+) on", text)[-1])
         return 1e6 * loop / steps, ru.ru_utime + ru.ru_stime
 
-    def per_step(self, kind, natoms, steps, coupled):
-        """(wall us, CPU us) per step of `run steps`, measured inside one LAMMPS process (the Python module) after a
-        warm-up run: getrusage user + system around the run, which Linux keeps exact, so start-up, plugin loading,
-        connection and the t0 exchange are outside the figure."""
+    def per_step(self, kind, natoms, steps, coupled, profile=False):
+        """Figures per step of `run steps`, measured inside one LAMMPS process (the Python module) after a warm-up
+        run: wall and getrusage user + system around the run (Linux keeps that exact), so start-up, plugin loading,
+        connection and the t0 exchange are outside them. Returns a dict: wall, cpu (us per step), ke (the kinetic
+        energy after the run, as text: plain and coupled must agree to the bit), nvcsw, nivcsw (voluntary and
+        involuntary context switches per step), load (1-minute average before the run) and, with profile, the
+        fix's own figures from its `profile yes` line (see profile_figures)."""
         warm = max(10, steps // 10)
         sock, where = self.where(kind)
-        deck = os.path.join(self.work, "in.inproc")
+        deck, log = os.path.join(self.work, "in.inproc"), os.path.join(self.work, "log.inproc")
         with open(deck, "w") as fh:
-            fh.write(fix_deck(sock, natoms, steps, self.plugin, coupled).rsplit("run ", 1)[0])
+            fh.write(fix_deck(sock, natoms, steps, self.plugin, coupled, profile).rsplit("run ", 1)[0])
+        load = load1()
         p = self.start_peer(where, 1 + warm + steps) if coupled else None
-        r = subprocess.run([os.path.join(ROOT, ".venv", "bin", "python"), "-c", INPROC, deck, str(warm), str(steps)],
-                           cwd=self.work, capture_output=True, text=True, timeout=3600,
+        r = subprocess.run([os.path.join(ROOT, ".venv", "bin", "python"), "-c", INPROC, deck, str(warm), str(steps),
+                            log], cwd=self.work, capture_output=True, text=True, timeout=3600,
                            env=dict(os.environ, OMP_NUM_THREADS="1", LD_LIBRARY_PATH=os.path.join(ROOT, ".venv", "lib")))
         if p:
             self.finish_peer(p)
-        m = re.search(r"wall ([\d.eE+-]+) cpu ([\d.eE+-]+)", r.stdout)
+        m = re.search(r"wall (\S+) cpu (\S+) user \S+ system \S+ switches (\d+) (\d+) ke (\S+)", r.stdout)
         if r.returncode != 0 or not m:
             raise RuntimeError(f"in-process LAMMPS failed ({kind}, {natoms}, coupled={coupled}):\n{r.stdout[-2000:]}"
                                f"{r.stderr[-2000:]}")
-        return 1e6 * float(m.group(1)) / steps, 1e6 * float(m.group(2)) / steps
+        text = open(log).read()
+        # The coupling must run as written: any warning of fix mbdyn (e.g. another fix integrating coupled atoms,
+        # which an earlier version of this deck had) means it does not.
+        warnings = [l for l in text.splitlines() if l.startswith("WARNING") and "mbdyn" in l.lower()]
+        if warnings:
+            raise RuntimeError(f"unexpected warnings ({kind}, {natoms}, coupled={coupled}):\n" + "\n".join(warnings))
+        row = dict(wall=1e6 * float(m.group(1)) / steps, cpu=1e6 * float(m.group(2)) / steps, ke=m.group(5),
+                   nvcsw=int(m.group(3)) / steps, nivcsw=int(m.group(4)) / steps, load=load)
+        if profile:
+            row.update(profile_figures(text))
+        return row
 
 
-# argv: deck file, warm-up steps, measured steps
+def load1():
+    return os.getloadavg()[0]
+
+
+PROFILE_RE = re.compile(r"profile: (\d+) steps, (\d+) timed; per step: fix cpu (\S+) us, fix wall (\S+) us without "
+                        r"(\S+) us waiting for MBDyn \(receive (\S+)/(\S+), pose (\S+)/(\S+), loads (\S+)/(\S+), "
+                        r"end_of_step (\S+)/(\S+) us wall/cpu\); run cpu (\S+) us, run wall (\S+) us; .*?(\d+) of (\d+) "
+                        r"timed receives found the message there \((\S+) us cpu each\)")
+
+
+def profile_figures(log_text):
+    """fix mbdyn's `profile yes` line of the last run: the fix's own CPU and wall per step (wall without the time
+    blocked waiting for the peer), that wait, the phases' CPU, the run's CPU and wall per step (same window)."""
+    m = PROFILE_RE.findall(log_text)
+    if not m:
+        raise RuntimeError("no fix mbdyn profile line in the log:\n" + log_text[-2000:])
+    v = m[-1]
+    f = [float(x) for x in v[2:]]
+    return dict(timed=int(v[1]), fix_cpu=f[0], fix_wall=f[1], wait=f[2], receive_cpu=f[4], pose_cpu=f[6],
+                loads_cpu=f[8], run_cpu=f[11], run_wall=f[12], ready=int(v[-3]), receives=int(v[-2]),
+                ready_cpu=f[-1], fix_share_cpu=f[0] / f[11], fix_share_wall=f[1] / f[12])
+
+
+# argv: deck file, warm-up steps, measured steps, log file
 INPROC = """
-import resource, sys, time
+import os, resource, sys, time
 from lammps import lammps
-lmp = lammps(cmdargs=["-screen", "none", "-log", "none", "-nocite"])
+lmp = lammps(cmdargs=["-screen", "none", "-log", sys.argv[4], "-nocite"])
 lmp.file(sys.argv[1])
 lmp.command("run " + sys.argv[2])
 r0, t0 = resource.getrusage(resource.RUSAGE_SELF), time.perf_counter()
@@ -174,29 +223,55 @@ lmp.command("run " + sys.argv[3] + " pre no post no")
 t1, r1 = time.perf_counter(), resource.getrusage(resource.RUSAGE_SELF)
 user, system = r1.ru_utime - r0.ru_utime, r1.ru_stime - r0.ru_stime
 print("wall", t1 - t0, "cpu", user + system, "user", user, "system", system, "switches", r1.ru_nvcsw - r0.ru_nvcsw,
-      r1.ru_nivcsw - r0.ru_nivcsw, flush=True)
+      r1.ru_nivcsw - r0.ru_nivcsw, "ke", repr(lmp.get_thermo("ke")), flush=True)
 lmp.close()
 """
 
 
 def wall_rounds(b, rounds, steps, big_steps):
+    """Interleaved rounds, the order reversed every other round (ABC CBA ...) so a drift in the machine's load
+    falls on every configuration alike; every run records the 1-minute load before it. Per round and socket: the
+    bare client, the 100-node plain and coupled decks, the 10^4-particle plain and coupled (profile yes) decks."""
     rows = {}
     for rnd in range(rounds):
-        for kind in ("unix", "tcp"):
-            up = uptime()
-            bw, bc = b.bare(kind, steps)
-            pw, pc = b.per_step(kind, NODES, steps, False)
-            cw, cc = b.per_step(kind, NODES, steps, True)
-            bpw, bpc = b.per_step(kind, 10000, big_steps, False)
-            bcw, bcc = b.per_step(kind, 10000, big_steps, True)
-            row = dict(bare=bw, bare_cpu=bc, plain=pw, plain_cpu=pc, coupled=cw, coupled_cpu=cc,
-                       added=cw - pw - bw, added_cpu=cc - pc - bc, big_plain=bpw, big_coupled=bcw,
-                       share=(bcw - bpw) / bcw, share_cpu=(bcc - bpc) / bcc)
+        for kind in (("unix", "tcp") if rnd % 2 == 0 else ("tcp", "unix")):
+            jobs = [("bare", lambda: b.bare(kind, steps)),
+                    ("plain", lambda: b.per_step(kind, NODES, steps, False)),
+                    ("coupled", lambda: b.per_step(kind, NODES, steps, True)),
+                    ("big_plain", lambda: b.per_step(kind, 10000, big_steps, False)),
+                    ("big_coupled", lambda: b.per_step(kind, 10000, big_steps, True, profile=True))]
+            if rnd % 2:
+                jobs.reverse()
+            got = {}
+            for name, job in jobs:
+                got[name] = job()
+            bare, plain, coupled = got["bare"], got["plain"], got["coupled"]
+            bp, bc = got["big_plain"], got["big_coupled"]
+            if bp["ke"] != bc["ke"]:
+                raise RuntimeError(f"the 10^4 bed evolved differently with the fix: kinetic energy {bp['ke']} plain, "
+                                   f"{bc['ke']} coupled")
+            row = dict(bare=bare["wall"], bare_cpu=bare["cpu"], plain=plain["wall"], plain_cpu=plain["cpu"],
+                       coupled=coupled["wall"], coupled_cpu=coupled["cpu"],
+                       added=coupled["wall"] - plain["wall"] - bare["wall"],
+                       added_cpu=coupled["cpu"] - plain["cpu"] - bare["cpu"],
+                       big_plain=bp["wall"], big_coupled=bc["wall"], big_plain_cpu=bp["cpu"], big_coupled_cpu=bc["cpu"],
+                       share=(bc["wall"] - bp["wall"]) / bc["wall"], share_cpu=(bc["cpu"] - bp["cpu"]) / bc["cpu"],
+                       fix_cpu=bc["fix_cpu"], fix_wall=bc["fix_wall"], wait=bc["wait"],
+                       fix_share_cpu=bc["fix_share_cpu"], fix_share_wall=bc["fix_share_wall"],
+                       receive_cpu=bc["receive_cpu"], pose_cpu=bc["pose_cpu"], loads_cpu=bc["loads_cpu"],
+                       ready=bc["ready"] / max(1, bc["receives"]), ready_cpu=bc["ready_cpu"],
+                       nivcsw_plain=bp["nivcsw"], nivcsw_coupled=bc["nivcsw"],
+                       load=max(plain["load"], coupled["load"], bp["load"], bc["load"]))
             rows.setdefault(kind, []).append(row)
-            print(f"round {rnd} {kind}: bare {bw:.1f} us (cpu {bc:.1f}), plain {pw:.1f} (cpu {pc:.1f}), coupled {cw:.1f} "
-                  f"(cpu {cc:.1f}) us/step -> added {row['added']:.1f} us (cpu {row['added_cpu']:.1f}); 10^4: plain "
-                  f"{bpw:.0f}, coupled {bcw:.0f} us/step, share {100 * row['share']:.2f} % (cpu "
-                  f"{100 * row['share_cpu']:.2f} %); load before: {up}", flush=True)
+            print(f"round {rnd} {kind} (load up to {row['load']:.1f}): 100 nodes: bare {bare['wall']:.1f} us (cpu "
+                  f"{bare['cpu']:.1f}), plain {plain['wall']:.1f} ({plain['cpu']:.1f}), coupled {coupled['wall']:.1f} "
+                  f"({coupled['cpu']:.1f}) -> added {row['added']:.1f} us (cpu {row['added_cpu']:.1f}); 10^4: plain "
+                  f"{bp['wall']:.0f} ({bp['cpu']:.0f}), coupled {bc['wall']:.0f} ({bc['cpu']:.0f}) us/step; fix's own "
+                  f"cpu {bc['fix_cpu']:.1f} us = {100 * bc['fix_share_cpu']:.2f} % of the step's cpu, wall "
+                  f"{bc['fix_wall']:.1f} us = {100 * bc['fix_share_wall']:.2f} % of its wall (+ {bc['wait']:.1f} us "
+                  f"waiting for the peer); coupled - plain {100 * row['share_cpu']:.2f} % cpu, "
+                  f"{100 * row['share']:.2f} % wall; involuntary switches/step {bp['nivcsw']:.2f} plain, "
+                  f"{bc['nivcsw']:.2f} coupled", flush=True)
     return rows
 
 
@@ -245,7 +320,7 @@ def main():
     ap.add_argument("--plugin", default=None)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--steps", type=int, default=2000, help="steps (= exchanges) of the 100-node runs")
-    ap.add_argument("--big-steps", type=int, default=100, help="steps of the 10^4-particle runs")
+    ap.add_argument("--big-steps", type=int, default=200, help="steps of the 10^4-particle runs")
     ap.add_argument("--callgrind-steps", type=int, default=400)
     ap.add_argument("--no-wall", action="store_true")
     ap.add_argument("--no-callgrind", action="store_true")
@@ -283,20 +358,42 @@ def main():
             print(f"\nwall and CPU time, {a.rounds} interleaved rounds:", flush=True)
             rows = wall_rounds(b, a.rounds, a.steps, a.big_steps)
             med = {kind: {k: statistics.median(r[k] for r in rs) for k in rs[0]} for kind, rs in rows.items()}
-            print(f"\nfix mbdyn, {NODES} nodes, {a.steps} exchanges (medians of {a.rounds} rounds):")
-            print("| socket | bare round trip us (cpu) | plain us/step (cpu) | coupled us/step (cpu) | added us (cpu) | "
+            spread = {kind: {k: (min(r[k] for r in rs), max(r[k] for r in rs)) for k in rs[0]}
+                      for kind, rs in rows.items()}
+            top = max(r["load"] for rs in rows.values() for r in rs)
+            print(f"\nmedians of {a.rounds} interleaved rounds (range in brackets); highest 1-minute load before a run: "
+                  f"{top:.2f} on {os.cpu_count()} cores" +
+                  ("" if top <= 1.5 else " -- NOT idle: wall figures are unreliable, CPU figures less so"))
+            print(f"\nfix mbdyn, {NODES} nodes, {a.steps} exchanges:")
+            print("| socket | bare round trip us (cpu) | plain us/step (cpu) | coupled us/step (cpu) | added us | added cpu us | "
                   "P5 (<= 15 us) |")
-            print("|---|---|---|---|---|---|")
+            print("|---|---|---|---|---|---|---|")
             for kind, m in med.items():
+                r = spread[kind]
                 print(f"| {kind} | {m['bare']:.1f} ({m['bare_cpu']:.1f}) | {m['plain']:.1f} ({m['plain_cpu']:.1f}) | "
-                      f"{m['coupled']:.1f} ({m['coupled_cpu']:.1f}) | {m['added']:.1f} ({m['added_cpu']:.1f}) | "
-                      f"{'met' if m['added'] <= 15 else 'NOT met'} (cpu {'met' if m['added_cpu'] <= 15 else 'NOT met'}) |")
-            print(f"\nfix mbdyn in a run of 10^4 particles, {a.big_steps} steps (medians):")
-            print("| socket | plain us/step | coupled us/step | share of the step (cpu) | P5 (<= 2 %) |")
-            print("|---|---|---|---|---|")
+                      f"{m['coupled']:.1f} ({m['coupled_cpu']:.1f}) | {m['added']:.1f} [{r['added'][0]:.1f}, "
+                      f"{r['added'][1]:.1f}] | {m['added_cpu']:.1f} [{r['added_cpu'][0]:.1f}, {r['added_cpu'][1]:.1f}] | "
+                      f"wall {'met' if m['added'] <= 15 else 'NOT met'}, cpu {'met' if m['added_cpu'] <= 15 else 'NOT met'} |")
+            print(f"\nfix mbdyn in a coupled run of 10^4 particles (static dense bed, {a.big_steps} steps; the fix's own "
+                  "time from its `profile yes` line, wall without the time blocked waiting for the peer):")
+            print("| socket | plain us/step wall (cpu) | coupled us/step wall (cpu) | fix cpu us/step (receive, pose, loads) "
+                  "| fix share of the step's cpu | fix wall us/step | fix share of the step's wall | waiting for the peer "
+                  "us/step | coupled - plain, cpu / wall | P5 (<= 2 %) |")
+            print("|---|---|---|---|---|---|---|---|---|---|")
             for kind, m in med.items():
-                print(f"| {kind} | {m['big_plain']:.0f} | {m['big_coupled']:.0f} | {100 * m['share']:.2f} % "
-                      f"({100 * m['share_cpu']:.2f} %) | {'met' if m['share'] <= 0.02 else 'NOT met'} |")
+                r = spread[kind]
+                print(f"| {kind} | {m['big_plain']:.0f} ({m['big_plain_cpu']:.0f}) | {m['big_coupled']:.0f} "
+                      f"({m['big_coupled_cpu']:.0f}) | {m['fix_cpu']:.1f} ({m['receive_cpu']:.1f}, {m['pose_cpu']:.1f}, "
+                      f"{m['loads_cpu']:.1f}) | {100 * m['fix_share_cpu']:.2f} % [{100 * r['fix_share_cpu'][0]:.2f}, "
+                      f"{100 * r['fix_share_cpu'][1]:.2f}] | {m['fix_wall']:.1f} | {100 * m['fix_share_wall']:.2f} % "
+                      f"[{100 * r['fix_share_wall'][0]:.2f}, {100 * r['fix_share_wall'][1]:.2f}] | {m['wait']:.1f} | "
+                      f"{100 * m['share_cpu']:.2f} % / {100 * m['share']:.2f} % | cpu "
+                      f"{'met' if m['fix_share_cpu'] <= 0.02 else 'NOT met'}, wall "
+                      f"{'met' if m['fix_share_wall'] <= 0.02 else 'NOT met'} |")
+            for kind, m in med.items():
+                print(f"  {kind}: receives that found the message already there: {100 * m['ready']:.0f} % (their cpu "
+                      f"{m['ready_cpu']:.1f} us); involuntary context switches per step {m['nivcsw_plain']:.2f} plain, "
+                      f"{m['nivcsw_coupled']:.2f} coupled")
     finally:
         shutil.rmtree(work, ignore_errors=True)
     print(f"\nuptime after: {uptime()}")

@@ -364,32 +364,34 @@ def main():
             print(f"\nmedians of {a.rounds} interleaved rounds (range in brackets); highest 1-minute load before a run: "
                   f"{top:.2f} on {os.cpu_count()} cores" +
                   ("" if top <= 1.5 else " -- NOT idle: wall figures are unreliable, CPU figures less so"))
-            print(f"\nfix mbdyn, {NODES} nodes, {a.steps} exchanges:")
-            print("| socket | bare round trip us (cpu) | plain us/step (cpu) | coupled us/step (cpu) | added us | added cpu us | "
-                  "P5 (<= 15 us) |")
-            print("|---|---|---|---|---|---|---|")
-            for kind, m in med.items():
-                r = spread[kind]
-                print(f"| {kind} | {m['bare']:.1f} ({m['bare_cpu']:.1f}) | {m['plain']:.1f} ({m['plain_cpu']:.1f}) | "
-                      f"{m['coupled']:.1f} ({m['coupled_cpu']:.1f}) | {m['added']:.1f} [{r['added'][0]:.1f}, "
-                      f"{r['added'][1]:.1f}] | {m['added_cpu']:.1f} [{r['added_cpu'][0]:.1f}, {r['added_cpu'][1]:.1f}] | "
-                      f"wall {'met' if m['added'] <= 15 else 'NOT met'}, cpu {'met' if m['added_cpu'] <= 15 else 'NOT met'} |")
-            print(f"\nfix mbdyn in a coupled run of 10^4 particles (static dense bed, {a.big_steps} steps; the fix's own "
-                  "time from its `profile yes` line, wall without the time blocked waiting for the peer):")
-            print("| socket | plain us/step wall (cpu) | coupled us/step wall (cpu) | fix cpu us/step (receive, pose, loads) "
-                  "| fix share of the step's cpu | fix wall us/step | fix share of the step's wall | waiting for the peer "
-                  "us/step | coupled - plain, cpu / wall | P5 (<= 2 %) |")
-            print("|---|---|---|---|---|---|---|---|---|---|")
-            for kind, m in med.items():
-                r = spread[kind]
-                print(f"| {kind} | {m['big_plain']:.0f} ({m['big_plain_cpu']:.0f}) | {m['big_coupled']:.0f} "
-                      f"({m['big_coupled_cpu']:.0f}) | {m['fix_cpu']:.1f} ({m['receive_cpu']:.1f}, {m['pose_cpu']:.1f}, "
-                      f"{m['loads_cpu']:.1f}) | {100 * m['fix_share_cpu']:.2f} % [{100 * r['fix_share_cpu'][0]:.2f}, "
-                      f"{100 * r['fix_share_cpu'][1]:.2f}] | {m['fix_wall']:.1f} | {100 * m['fix_share_wall']:.2f} % "
-                      f"[{100 * r['fix_share_wall'][0]:.2f}, {100 * r['fix_share_wall'][1]:.2f}] | {m['wait']:.1f} | "
-                      f"{100 * m['share_cpu']:.2f} % / {100 * m['share']:.2f} % | cpu "
-                      f"{'met' if m['fix_share_cpu'] <= 0.02 else 'NOT met'}, wall "
-                      f"{'met' if m['fix_share_wall'] <= 0.02 else 'NOT met'} |")
+            def span(kind, key, scale=1.0):  # "[min, max]" over the rounds
+                lo, hi = spread[kind][key]
+                return f"[{scale * lo:.2f}, {scale * hi:.2f}]"
+
+            def verdict(value, limit):
+                return "met" if value <= limit else "NOT met"
+
+            table(f"fix mbdyn, {NODES} nodes, {a.steps} exchanges:",
+                  ["socket", "bare round trip us (cpu)", "plain us/step (cpu)", "coupled us/step (cpu)", "added us",
+                   "added cpu us", "P5 (<= 15 us)"],
+                  [[kind, f"{m['bare']:.1f} ({m['bare_cpu']:.1f})", f"{m['plain']:.1f} ({m['plain_cpu']:.1f})",
+                    f"{m['coupled']:.1f} ({m['coupled_cpu']:.1f})", f"{m['added']:.1f} {span(kind, 'added')}",
+                    f"{m['added_cpu']:.1f} {span(kind, 'added_cpu')}",
+                    f"wall {verdict(m['added'], 15)}, cpu {verdict(m['added_cpu'], 15)}"] for kind, m in med.items()])
+            table(f"fix mbdyn in a coupled run of 10^4 particles (static dense bed, {a.big_steps} steps; the fix's own "
+                  "time from its `profile yes` line, wall without the time blocked waiting for the peer):",
+                  ["socket", "plain us/step wall (cpu)", "coupled us/step wall (cpu)",
+                   "fix cpu us/step (receive, pose, loads)", "fix share of the step's cpu", "fix wall us/step",
+                   "fix share of the step's wall", "waiting for the peer us/step", "coupled - plain, cpu / wall",
+                   "P5 (<= 2 %)"],
+                  [[kind, f"{m['big_plain']:.0f} ({m['big_plain_cpu']:.0f})",
+                    f"{m['big_coupled']:.0f} ({m['big_coupled_cpu']:.0f})",
+                    f"{m['fix_cpu']:.1f} ({m['receive_cpu']:.1f}, {m['pose_cpu']:.1f}, {m['loads_cpu']:.1f})",
+                    f"{100 * m['fix_share_cpu']:.2f} % {span(kind, 'fix_share_cpu', 100)}", f"{m['fix_wall']:.1f}",
+                    f"{100 * m['fix_share_wall']:.2f} % {span(kind, 'fix_share_wall', 100)}", f"{m['wait']:.1f}",
+                    f"{100 * m['share_cpu']:.2f} % / {100 * m['share']:.2f} %",
+                    f"cpu {verdict(m['fix_share_cpu'], 0.02)}, wall {verdict(m['fix_share_wall'], 0.02)}"]
+                   for kind, m in med.items()])
             for kind, m in med.items():
                 print(f"  {kind}: receives that found the message already there: {100 * m['ready']:.0f} % (their cpu "
                       f"{m['ready_cpu']:.1f} us); involuntary context switches per step {m['nivcsw_plain']:.2f} plain, "
@@ -397,6 +399,15 @@ def main():
     finally:
         shutil.rmtree(work, ignore_errors=True)
     print(f"\nuptime after: {uptime()}")
+
+
+def table(title, header, rows):
+    """A markdown table under a title line."""
+    print("\n" + title)
+    print("| " + " | ".join(header) + " |")
+    print("|" + "---|" * len(header))
+    for row in rows:
+        print("| " + " | ".join(row) + " |")
 
 
 def library_figures(build):

@@ -450,8 +450,18 @@ void FixParmecGranular::evaluate(Mode mode)
   if (!bodies_.empty()) place_bodies(skip);
   const double reach = quirks_ ? neighbor->skin : 0.0;
   for (std::size_t o = 0; o < obstacles_.size(); o++) candidates_[o].build(obstacles_[o].mesh(), nlocal, x, radius, skip.data(), reach);
-  for (std::size_t b = 0; b < bodies_.size(); b++)
-    body_candidates_[b].build(bodies_[b].surface().mesh(), nlocal, x, radius, skip.data(), reach);
+  // a MESH body's candidates: its reference triangles (binned once) against the spheres taken to its reference
+  // frame; the candidate test is a superset of the contacts in any frame, the contacts are resolved at the pose
+  std::vector<double> xref(bodies_.empty() ? 0 : 3 * std::size_t(nlocal));
+  std::vector<const double *> xref_of(bodies_.empty() ? 0 : nlocal);
+  for (std::size_t b = 0; b < bodies_.size(); b++) {
+    for (int i = 0; i < nlocal; i++) {
+      const Vec3 r = bodies_[b].to_reference(vec(x[i]));
+      std::copy(r.begin(), r.end(), &xref[3 * std::size_t(i)]);
+      xref_of[i] = &xref[3 * std::size_t(i)];
+    }
+    body_candidates_[b].build(bodies_[b].reference_mesh(), nlocal, xref_of.data(), radius, skip.data(), reach);
+  }
   // the triangle sets a sphere can touch: the obstacles, then the MESH bodies (keys in this order)
   struct Surface {
     const pc::Obstacle *shape;

@@ -29,7 +29,8 @@ BodyPose BodyPose::unpack(const double *in)
 }
 
 MeshBody::MeshBody(long tag, std::vector<mesh::TriangleNodes> triangles, std::vector<int> colors, const Vec3 &centre) :
-    tag_(tag), surface_(triangles, std::move(colors)), arms_(std::move(triangles))
+    tag_(tag), surface_(triangles, colors), reference_(triangles, std::move(colors)), centre_(centre),
+    arms_(std::move(triangles))
 {
   for (auto &tri : arms_)
     for (auto &p : tri) p = mesh::sub(p, centre);
@@ -51,6 +52,15 @@ void MeshBody::place(const BodyPose &pose)
       for (int c = 0; c < 3; ++c) placed_[t][k][c] = pose.x[c] + (L[3 * c] * a[0] + L[3 * c + 1] * a[1] + L[3 * c + 2] * a[2]);
     }
   surface_.place(placed_);
+}
+
+Vec3 MeshBody::to_reference(const Vec3 &p) const
+{
+  const Vec3 d = mesh::sub(p, pose_.x);
+  const double *L = pose_.lambda;
+  Vec3 r;
+  for (int c = 0; c < 3; ++c) r[c] = centre_[c] + (L[c] * d[0] + L[3 + c] * d[1] + L[6 + c] * d[2]);
+  return r;
 }
 
 Vec3 MeshBody::velocity_at(const Vec3 &p) const

@@ -30,6 +30,11 @@ class MeshBody {
 
   long tag() const { return tag_; }
   const Obstacle &surface() const { return surface_; }  // triangles at the current pose, colours
+  // The triangles in the reference configuration (never move): a rigid body's candidate search bins them once
+  // and looks them up with the spheres taken to the reference frame (to_reference); the contacts themselves
+  // are resolved on surface().
+  const mesh::TriangleMesh &reference_mesh() const { return reference_.mesh(); }
+  Vec3 to_reference(const Vec3 &p) const;  // X + Λᵀ (p − x)
   const BodyPose &pose() const { return pose_; }
   // Triangles to x + Λ(P − X) (kept as they are when x and Λ did not change).
   void place(const BodyPose &pose);
@@ -38,7 +43,8 @@ class MeshBody {
 
  private:
   long tag_;
-  Obstacle surface_;
+  Obstacle surface_, reference_;
+  Vec3 centre_;
   std::vector<mesh::TriangleNodes> arms_;  // P − X of every node
   std::vector<mesh::TriangleNodes> placed_;
   BodyPose pose_;

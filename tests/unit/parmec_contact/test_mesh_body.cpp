@@ -44,6 +44,12 @@ TEST(MeshBody, PlacesTheTrianglesAtTheBodyPose)
   EXPECT_DOUBLE_EQ(u[0], 1.0);
   EXPECT_DOUBLE_EQ(u[1], 2.0);
   EXPECT_DOUBLE_EQ(u[2], 0.0);
+  // back to the reference frame: the placed node (10.5, 20.5, 30.5) is the reference node (1, 0, 1)
+  const Vec3 r = b.to_reference(p);
+  EXPECT_DOUBLE_EQ(r[0], 1.0);
+  EXPECT_DOUBLE_EQ(r[1], 0.0);
+  EXPECT_DOUBLE_EQ(r[2], 1.0);
+  EXPECT_DOUBLE_EQ(b.reference_mesh().node(0, 1)[0], 1.0);  // the reference triangles do not move
 }
 
 TEST(MeshBody, PoseRoundTripsThroughItsMessage)

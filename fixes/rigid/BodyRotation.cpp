@@ -39,18 +39,34 @@ Vec3 mul_fused(const Mat3 &A, const Vec3 &b)
   for (int i = 0; i < 3; i++) r[i] = row_fused(A(i, 0), A(i, 1), A(i, 2), b[0], b[1], b[2]);
   return r;
 }
+// The same sum with the middle product fused first: fma(a2, b2, fma(a1, b1, a0 b0)). Which of the first two
+// products LLVM contracts depends on the operand order its passes leave in that add, not on the source order;
+// matched step by step against the oracle (a replay of the hung cube's 2000 steps with Parmec's recorded torques
+// reproduces every ω bit only with this order in J⁻¹ B and in the middle column of Λ exp(hΩ)).
+double row_fused_middle(double a0, double a1, double a2, double b0, double b1, double b2)
+{
+  return std::fma(a2, b2, std::fma(a1, b1, a0 * b0));
+}
+Vec3 mul_fused_middle(const Mat3 &A, const Vec3 &b)
+{
+  Vec3 r;
+  for (int i = 0; i < 3; i++) r[i] = row_fused_middle(A(i, 0), A(i, 1), A(i, 2), b[0], b[1], b[2]);
+  return r;
+}
+// Λ exp(hΩ) as dynamics.ispc's build rounds it: columns 0 and 2 row_fused, column 1 row_fused_middle
+Mat3 mul_rotation_fused(const Mat3 &A, const Mat3 &B)
+{
+  Mat3 C;
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++)
+      C(i, j) = (j == 1 ? row_fused_middle : row_fused)(A(i, 0), A(i, 1), A(i, 2), B(0, j), B(1, j), B(2, j));
+  return C;
+}
 Vec3 tmul_fused(const Mat3 &A, const Vec3 &b)  // Aᵀ b
 {
   Vec3 r;
   for (int i = 0; i < 3; i++) r[i] = row_fused(A(0, i), A(1, i), A(2, i), b[0], b[1], b[2]);
   return r;
-}
-Mat3 mul_fused(const Mat3 &A, const Mat3 &B)
-{
-  Mat3 C;
-  for (int i = 0; i < 3; i++)
-    for (int j = 0; j < 3; j++) C(i, j) = row_fused(A(i, 0), A(i, 1), A(i, 2), B(0, j), B(1, j), B(2, j));
-  return C;
 }
 Vec3 cross_fused(const Vec3 &a, const Vec3 &b)
 {
@@ -123,12 +139,12 @@ RotationStep rotation_step(const Mat3 &J, const Mat3 &Jinv, const Mat3 &L, const
     const Vec3 JW = mul_fused(J, W);
     Vec3 B = mul_fused(expmap(Vec3(-half * W[0], -half * W[1], -half * W[2]), q3_typo, true), JW);
     for (int c = 0; c < 3; c++) B[c] = std::fma(half, T[c], B[c]);
-    const Vec3 A = mul_fused(Jinv, B);
+    const Vec3 A = mul_fused_middle(Jinv, B);
     const Vec3 c = cross_fused(A, mul_fused(J, A));
     const Vec3 hT(h * (T[0] - c[0]), h * (T[1] - c[1]), h * (T[2] - c[2]));
     RotationStep out;
     out.W = W + mul_fused(Jinv, hT);
-    out.L = mul_fused(L, expmap(Vec3(h * out.W[0], h * out.W[1], h * out.W[2]), q3_typo, true));
+    out.L = mul_rotation_fused(L, expmap(Vec3(h * out.W[0], h * out.W[1], h * out.W[2]), q3_typo, true));
     out.w = mul_fused(out.L, out.W);
     return out;
   }

@@ -66,10 +66,11 @@ inline SpringFrame spring_frame(DirectionMode mode, const Vec3& d, const SpringK
     return parmec ? Vec3{std::fma(-s, d[0], w[0]), std::fma(-s, d[1], w[1]), std::fma(-s, d[2], w[2])} : w - s * d;
   };
   const Vec3 w = kin.q - kin.p;
-  f.distance = std::sqrt(dotp(w, w));
+  // HISTORY 'LENGTH' is Parmec's C++ output code (not contracted: one rounding per operation, also with parmec)
+  f.distance = std::sqrt(dot(w, w));
   switch (mode) {
     case DirectionMode::Follower:
-      f.len = f.distance;
+      f.len = parmec ? std::sqrt(dot_fused(w, w)) : f.distance;
       f.z = unit_of(w, f.len, parmec);
       break;
     case DirectionMode::Constant:

@@ -26,10 +26,13 @@ inline Vec3 cross_fused(const Vec3& a, const Vec3& b) {
   return {std::fma(a[1], b[2], -(a[2] * b[1])), std::fma(a[2], b[0], -(a[0] * b[2])),
           std::fma(a[0], b[1], -(a[1] * b[0]))};
 }
-// L v, L row-major (Parmec's NVMUL on its column-major storage, contracted as above).
+// L v, L row-major (Parmec's NVMUL on its column-major storage), each row fma(L2 v2, fma(L1 v1, L0 v0)): the
+// spring points p = x + Λ(P − X) of Parmec's spring kernel round this way (the middle product fused first, unlike
+// the sums above); replayed against the hung cube's STROKE column with the oracle's positions, every row agrees
+// only so (with the first product fused first 4 of 2000 rows differ by an ulp of p).
 inline Vec3 rotate_fused(const double* L, const Vec3& v) {
-  return {std::fma(L[2], v[2], std::fma(L[0], v[0], L[1] * v[1])), std::fma(L[5], v[2], std::fma(L[3], v[0], L[4] * v[1])),
-          std::fma(L[8], v[2], std::fma(L[6], v[0], L[7] * v[1]))};
+  return {std::fma(L[2], v[2], std::fma(L[1], v[1], L[0] * v[0])), std::fma(L[5], v[2], std::fma(L[4], v[1], L[3] * v[0])),
+          std::fma(L[8], v[2], std::fma(L[7], v[1], L[6] * v[0]))};
 }
 
 }  // namespace dembridge::springs

@@ -144,11 +144,11 @@ def test_spring_hung_cube_exact(tmp_path):
     ns = run_script(os.path.join(SCRIPTS, "spring.py"), [repr(h), "0.25"], workdir=str(tmp_path))
     rows = oracle("spring")
     err = compare(ns["H"], rows)
-    # Measured: bit for bit up to step 144; from step 145 (a one-ulp difference in the corner point p)
-    # torques TX/TZ 2.2e-11 of their largest value, the rest <= 4.3e-12 (before Parmec's spring order and
-    # FMA arithmetic, 'order parmec' / Q27: torques 1.1e-10, the rest 2.2e-11)
-    assert max(err.values()) <= 5e-11, {k: v for k, v in err.items() if v > 5e-11}
-    assert max(v for k, v in err.items() if k[0] != "T") <= 1e-11
+    # Measured: every column bit for bit over the 2000 steps, with the products fused as Parmec's build fuses
+    # them (J⁻¹B, the middle column of Λ exp(hΩ) and the spring points p = x + Λ(P − X) with the middle product
+    # first; LENGTH as its unfused C++ output). Before: bitwise to step 144, then 2.2e-11 (torques); before
+    # 'order parmec' / Q27: 1.1e-10.
+    assert max(err.values()) <= 1e-15, {k: v for k, v in err.items() if v > 1e-15}
     assert abs(ns["critical"] - 0.00041585602806453945) <= 2e-11 * 0.000415856
 
 
@@ -156,10 +156,12 @@ def test_spring_hung_cube_exact(tmp_path):
 def test_ball_joint_chain_exact(tmp_path, variant, quirks):
     """Ten cubes chained by BALL_JOINTs, the last pinned, under gravity: 2 s (2000 steps), positions,
     angular velocities, joint reactions and the joint points on both bodies, against upstream Parmec and
-    the Q1/Q3-fixed build. Measured: positions and joint points to 1.7e-15, angular velocities to 1.1e-13,
-    reactions to 6.2e-12 of their largest value (1e-10 overall before the joint system was assembled and
-    factored in Parmec's order): the impulses solve an ill-conditioned system whose right-hand side is a
-    difference of nearly equal velocities, so an ulp there is ~1e-13 relative in a reaction."""
+    the Q1/Q3-fixed build. Measured: positions and joint points to 1.6e-15, angular velocities to 1.2e-13,
+    reactions to 8.9e-12 of their largest value (6.2e-12 / 1.1e-13 before Parmec's fused products in J⁻¹B and
+    Λ exp(hΩ), which make the joint-free cases bitwise; 1e-10 overall before the joint system was assembled
+    and factored in Parmec's order): ω differs by an ulp from step 1 (the joint solve, Parmec's C++), and the
+    impulses solve an ill-conditioned system whose right-hand side is a difference of nearly equal
+    velocities, so an ulp there is ~1e-13 relative in a reaction."""
     ns = run_script(os.path.join(SCRIPTS, "ball_joint_chain.py"), ["2.0"], quirks=quirks, workdir=str(tmp_path))
     rows = oracle(os.path.join(variant, "ball_joint_chain") if variant else "ball_joint_chain")
     err = compare(ns["H"], rows, rows_used=len(ns["H"]["TIME"]))
@@ -172,29 +174,29 @@ def test_ball_joint_chain_exact(tmp_path, variant, quirks):
 # (oracle case, script, extra ARGV, --parmec-quirks, duration, tolerance): each script runs at the oracle's
 # step for `duration` and every column of the oracle is compared (rows up to the last sample)
 SPRING_CASES = [
-    ("spring_planar", "spring_planar.py", [], True, 5.0, 1e-12),
-    ("spring_planar", "spring_planar.py", [], False, 5.0, 1e-12),
-    ("spring_damping_factor", "spring_damping_factor.py", [], True, 0.5, 5e-11),
-    ("spring_stroke_offset", "spring_stroke_offset.py", [], False, 0.2, 1e-10),
-    ("spring_contact_points", "spring_contact.py", ["points"], True, 0.1, 1e-13),
-    ("spring_contact", "spring_contact.py", ["points"], True, 0.1, 1e-13),
-    ("fixedQ1Q3/spring_contact", "spring_contact.py", ["points"], False, 0.1, 1e-13),
-    ("spring_contact_plane", "spring_contact.py", ["plane"], True, 0.1, 1e-13),
-    ("fixedQ1Q3/spring_contact_plane", "spring_contact.py", ["plane"], False, 0.1, 1e-13),
-    ("spring_contact_plane_kskn", "spring_contact.py", ["plane_kskn"], True, 0.1, 1e-13),
+    ("spring_planar", "spring_planar.py", [], True, 5.0, 1e-15),
+    ("spring_planar", "spring_planar.py", [], False, 5.0, 1e-15),
+    ("spring_damping_factor", "spring_damping_factor.py", [], True, 0.5, 5e-15),
+    ("spring_stroke_offset", "spring_stroke_offset.py", [], False, 0.2, 1e-15),
+    ("spring_contact_points", "spring_contact.py", ["points"], True, 0.1, 1e-15),
+    ("spring_contact", "spring_contact.py", ["points"], True, 0.1, 1e-15),
+    ("fixedQ1Q3/spring_contact", "spring_contact.py", ["points"], False, 0.1, 1e-15),
+    ("spring_contact_plane", "spring_contact.py", ["plane"], True, 0.1, 1e-15),
+    ("fixedQ1Q3/spring_contact_plane", "spring_contact.py", ["plane"], False, 0.1, 1e-15),
+    ("spring_contact_plane_kskn", "spring_contact.py", ["plane_kskn"], True, 0.1, 1e-15),
 ]
 
 
 @pytest.mark.parametrize("case,script,extra,quirks,duration,tol", SPRING_CASES,
                          ids=[f"{c[0]}-{'parmec' if c[3] else 'fixed'}" for c in SPRING_CASES])
 def test_spring_oracle_cases(tmp_path, case, script, extra, quirks, duration, tol):
-    """Measured (max over columns, group-scaled): planar 1.1e-16 (both modes: LENGTH by one ulp, every other
-    column bitwise; 3.3e-11 before fix parmec/spring's 'order parmec' and the fused multiply-adds of Parmec's
-    build (Q27), 1.6e-8 before the mesh inertia followed Parmec's order), damping factor with Q8 (quirks)
-    1.2e-11 (9.3e-12 before), stroke offset 2.2e-11 (torques; 1.1e-10 before), contact 1.9e-14 (1.7e-12
-    before), contact on planes 2.6e-15 vs upstream and 2.1e-15 vs the Q1/Q3-fixed build (2.9e-7 / 2.9e-14
-    before: with Q3 on Parmec's rotation matrix is slightly non-orthogonal, and the plane normal now comes from
-    that matrix, fix parmec/rigid's Λ, instead of the atom quaternion)."""
+    """Measured (max over columns, group-scaled): every column bit for bit in planar (both modes), stroke
+    offset, contact, contact on planes (vs upstream and vs the Q1/Q3-fixed build) and kskn, with Parmec's
+    fused products in J⁻¹B, Λ exp(hΩ) and the spring points (doc/parmec_front_end.md "Parmec's arithmetic");
+    damping factor with Q8 (quirks) 1.6e-15 (the critical-ratio dashpot's equivalent mass, Parmec's eqm(),
+    is rounded differently from step 2). Before that: planar 1.1e-16, damping factor 1.2e-11, stroke offset
+    2.2e-11, contact 1.9e-14, planes 2.6e-15 / 2.1e-15; before 'order parmec' and Q27 planar 3.3e-11,
+    stroke offset 1.1e-10, contact 1.7e-12, planes 2.9e-7 / 2.9e-14."""
     import json
     meta = json.load(open(os.path.join(DATA, case, "meta.json")))
     ns = run_script(os.path.join(SCRIPTS, script), [repr(meta["step"]), repr(duration)] + extra, quirks=quirks,
@@ -263,16 +265,15 @@ def test_prescribed_yield_cycle_exact(tmp_path, case, body):
 
 
 @pytest.mark.parametrize("case,mode,quirks,duration,tol", [
-    ("spring_chain", "tables", False, 0.5, 2.5e-9), ("spring_chain", "tables", True, 0.5, 2.5e-9),
+    ("spring_chain", "tables", False, 0.5, 1e-9), ("spring_chain", "tables", True, 0.5, 1e-15),
     ("spring_chain_critical", "ratios", True, 5.0, 1e-10)])
 def test_spring_chain_exact(tmp_path, case, mode, quirks, duration, tol):
     """Ten cubes chained by follower springs (tables, 4800 steps; critical ratios with Parmec's Q8 EQM arm,
-    1800 steps). Measured with Parmec's spring order and FMA arithmetic ('order parmec', Q27): 1.9e-9 (default)
-    and 1.6e-9 (quirks), the angular velocity of the bottom cube, and 7.7e-11 (ratios); positions and spring
-    forces are bitwise equal over the first rows, but from step ~20 the components of ω that vanish by symmetry
-    (the twist about the chain, Parmec's own values 1e-13 of noise) differ, and the chain amplifies them.
-    The noise realisation moves with any ulp (8e-10 / 4.9e-11 before, with the quaternion points and w/|w|),
-    so this is not closer to 1e-12 yet (doc/parmec_front_end.md)."""
+    1800 steps). Measured: with --parmec-quirks every column bit for bit (tables); by default 3.9e-10 (ω of the
+    bottom cube: the corrected exponential map, Q3, against upstream Parmec); ratios 7.4e-11: the critical-ratio
+    dashpot's equivalent mass is rounded differently from Parmec's eqm() (one ulp in ω from step 1), and the
+    chain amplifies round-off in the ω components that vanish by symmetry (doc/parmec_front_end.md). Before
+    Parmec's fused products in J⁻¹B, Λ exp(hΩ) and the spring points: 1.9e-9 / 1.6e-9 / 7.7e-11."""
     import json
     meta = json.load(open(os.path.join(DATA, case, "meta.json")))
     ns = run_script(os.path.join(SCRIPTS, "spring_chain.py"), [repr(meta["step"]), repr(duration), mode],

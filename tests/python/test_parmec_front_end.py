@@ -193,9 +193,9 @@ def test_spring_oracle_cases(tmp_path, case, script, extra, quirks, duration, to
     """Measured (max over columns, group-scaled): every column bit for bit in planar (both modes), stroke
     offset, contact, contact on planes (vs upstream and vs the Q1/Q3-fixed build) and kskn, with Parmec's
     fused products in J⁻¹B, Λ exp(hΩ) and the spring points (doc/parmec_front_end.md "Parmec's arithmetic");
-    damping factor with Q8 (quirks) 1.6e-15 (the critical-ratio dashpot's equivalent mass, Parmec's eqm(),
-    is rounded differently from step 2). Before that: planar 1.1e-16, damping factor 1.2e-11, stroke offset
-    2.2e-11, contact 1.9e-14, planes 2.6e-15 / 2.1e-15; before 'order parmec' and Q27 planar 3.3e-11,
+    damping factor with Q8 (quirks) 1.6e-15 (the critical-ratio dashpot's equivalent mass is rounded
+    differently from Parmec's eqm() from step 2). Before that: planar 1.1e-16, damping factor 1.2e-11,
+    stroke offset 2.2e-11, contact 1.9e-14, planes 2.6e-15 / 2.1e-15; before 'order parmec' and Q27 planar 3.3e-11,
     stroke offset 1.1e-10, contact 1.7e-12, planes 2.9e-7 / 2.9e-14."""
     import json
     meta = json.load(open(os.path.join(DATA, case, "meta.json")))

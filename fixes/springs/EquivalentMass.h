@@ -25,7 +25,8 @@ std::array<double, 9> point_inverse_mass(const BodyMass& body, const Vec3& P, Eq
 // m_eq = 1/(d^T M^-1 d) for d != 0 (d used as given), else 1/lambda_min(M^-1): the largest point
 // mass (Q17 fixed: Parmec takes the maximum diagonal entry when M^-1 happens to be diagonal).
 // M^-1 sums part1's and, if body2 is given, part2's contributions. Throws if M^-1 is not positive.
+// fused: in the operation order and contraction of Parmec's eqm() ('order parmec').
 double equivalent_mass(const BodyMass& body1, const Vec3& P1, const BodyMass* body2, const Vec3& P2, const Vec3& d,
-                       EqmArm arm = EqmArm::Correct);
+                       EqmArm arm = EqmArm::Correct, bool fused = false);
 
 }  // namespace dembridge::springs

@@ -1072,9 +1072,9 @@ double FixParmecSpring::spring_eqm_general(const EvalContext &c, const SpringDef
   const auto arm = q8_arm_ ? sp::EqmArm::ParmecQ8 : sp::EqmArm::Correct;
   if (k >= 0) {
     const sp::BodyMass b2 = body(k, d.X2ref);
-    return sp::equivalent_mass(b1, p1, &b2, q8_arm_ ? d.X2ref + d.arm2 : d.arm2, dir, arm);
+    return sp::equivalent_mass(b1, p1, &b2, q8_arm_ ? d.X2ref + d.arm2 : d.arm2, dir, arm, parmec_order_);
   }
-  return sp::equivalent_mass(b1, p1, nullptr, {0, 0, 0}, dir, arm);
+  return sp::equivalent_mass(b1, p1, nullptr, {0, 0, 0}, dir, arm, parmec_order_);
 }
 
 int FixParmecSpring::spring_index(long spring_id) const

@@ -48,34 +48,26 @@ template <class Body> static void for_each_part(int nparts, Body &&body)
 // NVALUES 0 is a placeholder: the pair style reserves its place in the fix order when pair_style
 // is read (fixes run in definition order, and the history must be converted before a later
 // fix pour inserts atoms) and replaces it, in place, by the real fix at init.
-FixContactHistory::FixContactHistory(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
+static int history_values(LAMMPS *lmp, int narg, char **arg)
 {
-  if (narg != 4) error->all(FLERR, "fix dembridge/contact/history is internal to the dembridge pair styles");
-  nv_ = utils::inumeric(FLERR, arg[3], false, lmp);
-  if (nv_ < 0) error->all(FLERR, "fix dembridge/contact/history: number of values must be >= 0");
+  if (narg != 4) lmp->error->all(FLERR, "fix dembridge/contact/history is internal to the dembridge pair styles");
+  const int nv = utils::inumeric(FLERR, arg[3], false, lmp);
+  if (nv < 0) lmp->error->all(FLERR, "fix dembridge/contact/history: number of values must be >= 0");
+  return nv;
+}
+
+FixContactHistory::FixContactHistory(LAMMPS *lmp, int narg, char **arg) :
+    PerAtomCallbacksFix(lmp, narg, arg), nv_(history_values(lmp, narg, arg)), partners_(nv_, &atom->tag)
+{
   if (nv_ == 0) return;
-  restart_peratom = 1;
-  create_attribute = 1;
+  attach(partners_);
   maxexchange_dynamic = 1;
   set_maxexchange(0);
   vector_flag = 1;
   size_vector = 4;
   global_freq = 1;
   extvector = 0;
-  grow_arrays(atom->nmax);
-  atom->add_callback(Atom::GROW);
-  atom->add_callback(Atom::RESTART);
-  for (int i = 0; i < atom->nlocal; i++) {
-    set_arrays(i);
-    own_tag_[i] = atom->tag ? atom->tag[i] : 0;
-  }
-}
-
-FixContactHistory::~FixContactHistory()
-{
-  if (nv_ == 0) return;
-  atom->delete_callback(id, Atom::GROW);
-  atom->delete_callback(id, Atom::RESTART);
+  for (int i = 0; i < atom->nlocal; i++) partners_.own_tag[i] = atom->tag ? atom->tag[i] : 0;
 }
 
 int FixContactHistory::setmask()
@@ -169,8 +161,8 @@ void FixContactHistory::atoms_from_list()
   std::size_t total = 0;
   int most = 0;
   for (int a = 0; a < nlocal; a++) {
-    offset_[a] = total;
-    own_tag_[a] = tag[a];
+    partners_.offset[a] = total;
+    partners_.own_tag[a] = tag[a];
     std::size_t count = 0;
     for (int t = 0; t < nparts; t++) {
       std::size_t &n = next[std::size_t(t) * nlocal + a];
@@ -178,24 +170,24 @@ void FixContactHistory::atoms_from_list()
       n = total + count;
       count += part_count;
     }
-    npartner_[a] = int(count);
+    partners_.npartner[a] = int(count);
     total += count;
     most = std::max(most, int(count));
   }
   // The old runs are not read again (the list-order slots hold the history): reuse the pool's
   // storage, released when it is more than twice what the contacts present need.
-  if (pool_tag_.capacity() > 2 * total + 1024) {
-    std::vector<tagint>().swap(pool_tag_);
-    std::vector<double>().swap(pool_val_);
+  if (partners_.pool_tag.capacity() > 2 * total + 1024) {
+    std::vector<tagint>().swap(partners_.pool_tag);
+    std::vector<double>().swap(partners_.pool_val);
   }
-  pool_tag_.resize(total);
-  pool_val_.resize(total * nv_);
+  partners_.pool_tag.resize(total);
+  partners_.pool_val.resize(total * nv_);
   for_each_part(nparts, [&](int t) {
     std::size_t *pos = next.data() + std::size_t(t) * nlocal;
     for_each_contact(rows(t), rows(t + 1), [&](int a, tagint partner, const double *v, double sign) {
       const std::size_t k = pos[a]++;
-      pool_tag_[k] = partner;
-      for (int m = 0; m < nv_; m++) pool_val_[k * nv_ + m] = sign * v[m];
+      partners_.pool_tag[k] = partner;
+      for (int m = 0; m < nv_; m++) partners_.pool_val[k * nv_ + m] = sign * v[m];
     });
   });
   set_maxexchange(most);
@@ -230,14 +222,14 @@ void FixContactHistory::list_from_atoms()
     const int i = ilist[ii];
     std::fill_n(values_.begin() + first_[i] * nv_, std::size_t(numneigh[i]) * nv_, 0.0);
     std::fill_n(touch_.begin() + first_[i], numneigh[i], gran::TouchFlag::Separated);
-    if (npartner_[i] == 0) continue;
+    if (partners_.npartner[i] == 0) continue;
     const int *jlist = list_->firstneigh[i];
-    const std::size_t base = offset_[i];
+    const std::size_t base = partners_.offset[i];
     for (int jj = 0; jj < numneigh[i]; jj++) {
       const tagint tj = tag[jlist[jj] & NEIGHMASK];
-      for (int k = 0; k < npartner_[i]; k++) {
-        if (pool_tag_[base + k] != tj) continue;
-        std::memcpy(slot(i, jj), &pool_val_[(base + k) * nv_], nv_ * sizeof(double));
+      for (int k = 0; k < partners_.npartner[i]; k++) {
+        if (partners_.pool_tag[base + k] != tj) continue;
+        std::memcpy(slot(i, jj), &partners_.pool_val[(base + k) * nv_], nv_ * sizeof(double));
         touched(i, jj) = gran::TouchFlag::Touching;
         break;
       }
@@ -250,7 +242,7 @@ void FixContactHistory::list_from_atoms()
 std::size_t FixContactHistory::live_entries() const
 {
   std::size_t n = 0;
-  for (int i = 0; i < atom->nlocal; i++) n += npartner_[i];
+  for (int i = 0; i < atom->nlocal; i++) n += partners_.npartner[i];
   return n;
 }
 
@@ -258,18 +250,18 @@ std::size_t FixContactHistory::live_entries() const
 void FixContactHistory::compact_pool()
 {
   const std::size_t live = live_entries();
-  if (pool_tag_.size() <= 2 * live + 1024) return;
+  if (partners_.pool_tag.size() <= 2 * live + 1024) return;
   std::vector<tagint> ptag(live);
   std::vector<double> pval(live * nv_);
   std::size_t k = 0;
   for (int i = 0; i < atom->nlocal; i++) {
-    std::copy_n(&pool_tag_[offset_[i]], npartner_[i], &ptag[k]);
-    std::copy_n(&pool_val_[offset_[i] * nv_], npartner_[i] * nv_, &pval[k * nv_]);
-    offset_[i] = k;
-    k += npartner_[i];
+    std::copy_n(&partners_.pool_tag[partners_.offset[i]], partners_.npartner[i], &ptag[k]);
+    std::copy_n(&partners_.pool_val[partners_.offset[i] * nv_], partners_.npartner[i] * nv_, &pval[k * nv_]);
+    partners_.offset[i] = k;
+    k += partners_.npartner[i];
   }
-  pool_tag_.swap(ptag);
-  pool_val_.swap(pval);
+  partners_.pool_tag.swap(ptag);
+  partners_.pool_val.swap(pval);
 }
 
 // delete_atoms (compress yes) and reset_atoms id renumber atoms between runs: partner tags are
@@ -279,14 +271,14 @@ void FixContactHistory::follow_renumbered_tags()
   const int nlocal = atom->nlocal;
   const tagint *tag = atom->tag;
   int changed = 0, any = 0;
-  for (int i = 0; i < nlocal && !changed; i++) changed = own_tag_[i] != 0 && own_tag_[i] != tag[i];
+  for (int i = 0; i < nlocal && !changed; i++) changed = partners_.own_tag[i] != 0 && partners_.own_tag[i] != tag[i];
   MPI_Allreduce(&changed, &any, 1, MPI_INT, MPI_MAX, world);
   if (!any) return;
 
   std::vector<tagint> mine;  // (old, new) of every atom whose list this rank holds
   for (int i = 0; i < nlocal; i++)
-    if (own_tag_[i] != 0) {
-      mine.push_back(own_tag_[i]);
+    if (partners_.own_tag[i] != 0) {
+      mine.push_back(partners_.own_tag[i]);
       mine.push_back(tag[i]);
     }
   int n = int(mine.size());
@@ -301,78 +293,19 @@ void FixContactHistory::follow_renumbered_tags()
   std::vector<tagint> ptag;
   std::vector<double> pval;
   for (int i = 0; i < nlocal; i++) {
-    const std::size_t base = offset_[i], start = ptag.size();
-    for (int k = 0; k < npartner_[i]; k++) {
-      auto it = renamed.find(pool_tag_[base + k]);
+    const std::size_t base = partners_.offset[i], start = ptag.size();
+    for (int k = 0; k < partners_.npartner[i]; k++) {
+      auto it = renamed.find(partners_.pool_tag[base + k]);
       if (it == renamed.end()) continue;
       ptag.push_back(it->second);
-      pval.insert(pval.end(), &pool_val_[(base + k) * nv_], &pool_val_[(base + k + 1) * nv_]);
+      pval.insert(pval.end(), &partners_.pool_val[(base + k) * nv_], &partners_.pool_val[(base + k + 1) * nv_]);
     }
-    offset_[i] = start;
-    npartner_[i] = int(ptag.size() - start);
-    own_tag_[i] = tag[i];
+    partners_.offset[i] = start;
+    partners_.npartner[i] = int(ptag.size() - start);
+    partners_.own_tag[i] = tag[i];
   }
-  pool_tag_.swap(ptag);
-  pool_val_.swap(pval);
-}
-
-void FixContactHistory::grow_arrays(int nmax)
-{
-  npartner_.resize(nmax, 0);
-  offset_.resize(nmax, 0);
-  own_tag_.resize(nmax, 0);
-}
-
-// Copies share the source's run of the pool (runs are never modified, only rebuilt).
-void FixContactHistory::copy_arrays(int i, int j, int /*delflag*/)
-{
-  npartner_[j] = npartner_[i];
-  offset_[j] = offset_[i];
-  own_tag_[j] = own_tag_[i];
-}
-
-void FixContactHistory::set_arrays(int i)
-{
-  npartner_[i] = 0;
-  offset_[i] = 0;
-  own_tag_[i] = 0;  // a new atom: its tag may not be assigned yet, and it has no partners
-}
-
-// Partner list of atom i as [n, tag_1, values_1..., tag_n, values_n...]; shared by exchange and restart.
-int FixContactHistory::pack_partners(int i, double *buf) const
-{
-  int m = 0;
-  buf[m++] = npartner_[i];
-  for (int k = 0; k < npartner_[i]; k++) {
-    buf[m++] = ubuf(pool_tag_[offset_[i] + k]).d;
-    for (int q = 0; q < nv_; q++) buf[m++] = pool_val_[(offset_[i] + k) * nv_ + q];
-  }
-  return m;
-}
-
-int FixContactHistory::unpack_partners(int i, const double *buf)
-{
-  int m = 0;
-  const int n = static_cast<int>(buf[m++]);
-  npartner_[i] = n;
-  offset_[i] = pool_tag_.size();
-  for (int k = 0; k < n; k++) {
-    pool_tag_.push_back(static_cast<tagint>(ubuf(buf[m++]).i));
-    for (int q = 0; q < nv_; q++) pool_val_.push_back(buf[m++]);
-  }
-  if (1 + n * (1 + nv_) > maxexchange) set_maxexchange(n);
-  own_tag_[i] = atom->tag[i];
-  return m;
-}
-
-int FixContactHistory::pack_exchange(int i, double *buf)
-{
-  return pack_partners(i, buf);
-}
-
-int FixContactHistory::unpack_exchange(int nlocal, double *buf)
-{
-  return unpack_partners(nlocal, buf);
+  partners_.pool_tag.swap(ptag);
+  partners_.pool_val.swap(pval);
 }
 
 // A restart written mid-run needs the per-atom lists of this step.
@@ -381,57 +314,28 @@ void FixContactHistory::sync_atoms()
   if (list_valid_ && atoms_stale_) atoms_from_list();
 }
 
-int FixContactHistory::size_restart(int i)
+void FixContactHistory::check_restored(int)
 {
-  sync_atoms();
-  return 2 + npartner_[i] * (1 + nv_);
-}
-
-int FixContactHistory::pack_restart(int i, double *buf)
-{
-  sync_atoms();
-  const int m = 1 + pack_partners(i, buf + 1);
-  buf[0] = m;  // LAMMPS convention: the first value is the length of this fix's block
-  return m;
-}
-
-void FixContactHistory::unpack_restart(int nlocal, int nth)
-{
-  // a placeholder (pair_style given again after read_restart) leaves the data to the real fix
-  if (nv_ == 0) return;
-  double **extra = atom->extra;
-  int m = 0;
-  for (int k = 0; k < nth; k++) m += static_cast<int>(extra[nlocal][m]);
-  const double *block = &extra[nlocal][m];
-  // a pair style given again after read_restart with another model stores another number of
-  // values per contact: its springs start from zero (LAMMPS's restart data has no other use)
-  const int n = static_cast<int>(block[1]);
-  if (static_cast<int>(block[0]) != 2 + n * (1 + nv_)) {
-    if (!mismatch_warned_ && comm->me == 0)
-      error->warning(FLERR, "fix dembridge/contact/history: the restart file holds another number of history values per "
-                            "contact than the pair style now uses; contact history restarts from zero");
-    mismatch_warned_ = true;
-    set_arrays(nlocal);
-    own_tag_[nlocal] = atom->tag[nlocal];
-    return;
-  }
-  unpack_partners(nlocal, block + 1);
   list_valid_ = false;
 }
 
-int FixContactHistory::maxsize_restart()
+// A pair style given again after read_restart with another model stores another number of values per
+// contact: its springs start from zero (LAMMPS's restart data has no other use).
+void FixContactHistory::restart_mismatch(int i)
 {
-  sync_atoms();
-  int most = 0;
-  for (int i = 0; i < atom->nlocal; i++) most = std::max(most, npartner_[i]);
-  return 2 + most * (1 + nv_);
+  if (!mismatch_warned_ && comm->me == 0)
+    error->warning(FLERR, "fix dembridge/contact/history: the restart file holds another number of history values per "
+                          "contact than the pair style now uses; contact history restarts from zero");
+  mismatch_warned_ = true;
+  partners_.clear(i);
+  partners_.own_tag[i] = atom->tag[i];
 }
 
 double FixContactHistory::memory_usage()
 {
   return double(values_.capacity()) * sizeof(double) + touch_.capacity() + first_.capacity() * sizeof(std::size_t) +
-      list_tag_.capacity() * sizeof(tagint) + pool_val_.capacity() * sizeof(double) + pool_tag_.capacity() * sizeof(tagint) +
-      npartner_.capacity() * sizeof(int) + offset_.capacity() * sizeof(std::size_t) + own_tag_.capacity() * sizeof(tagint);
+      list_tag_.capacity() * sizeof(tagint) + partners_.pool_val.capacity() * sizeof(double) + partners_.pool_tag.capacity() * sizeof(tagint) +
+      partners_.npartner.capacity() * sizeof(int) + partners_.offset.capacity() * sizeof(std::size_t) + partners_.own_tag.capacity() * sizeof(tagint);
 }
 
 // [1] bytes held, [2] contacts stored (each is kept by both atoms), [3] list-order slots,
@@ -441,7 +345,7 @@ double FixContactHistory::compute_vector(int n)
 {
   sync_atoms();
   const double contact_bytes = double(values_.capacity()) * sizeof(double) + touch_.capacity() +
-      pool_val_.capacity() * sizeof(double) + pool_tag_.capacity() * sizeof(tagint);
+      partners_.pool_val.capacity() * sizeof(double) + partners_.pool_tag.capacity() * sizeof(tagint);
   double local[4] = {memory_usage(), 0.5 * double(live_entries()), double(touch_.size()), contact_bytes};
   MPI_Allreduce(local, stats_, 4, MPI_DOUBLE, MPI_SUM, world);
   return stats_[n];

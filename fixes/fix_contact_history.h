@@ -9,7 +9,8 @@
 // may already have changed in pre_exchange) and finds the atoms by tag. Between runs, renumbered
 // atom IDs (delete_atoms compress yes) are followed; partners that no longer exist are dropped.
 //
-// Memory: the per-atom lists are one packed pool rebuilt at every conversion, so it is sized by
+// Memory: the per-atom lists are one packed pool (PartnerLists; the LAMMPS per-atom callbacks that move
+// them are PerAtomCallbacksFix's) rebuilt at every conversion, so it is sized by
 // the contacts present (no per-atom stride set by the busiest atom); the list-order arrays shrink
 // when the neighbour list does.
 //
@@ -18,18 +19,18 @@
 // [2] contacts stored, [3] list-order slots, [4] bytes of the contact storage alone.
 #pragma once
 
-#include "fix.h"
+#include "contact_partner_lists.h"
+#include "per_atom_callbacks_fix.h"
 #include "touch_flag.h"
 
 #include <vector>
 
 namespace dembridge {
 
-class FixContactHistory : public LAMMPS_NS::Fix {
+class FixContactHistory : public state::PerAtomCallbacksFix {
  public:
   // args: ID group dembridge/contact/history NVALUES
   FixContactHistory(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
-  ~FixContactHistory() override;
   int setmask() override;
   void setup_pre_exchange() override;
   void setup_post_neighbor() override { post_neighbor(); }
@@ -52,24 +53,22 @@ class FixContactHistory : public LAMMPS_NS::Fix {
   const std::size_t *first_slots() const { return first_.data(); }
   void mark_updated() { atoms_stale_ = true; }  // the pair changed list values this step
 
-  void grow_arrays(int nmax) override;
-  void copy_arrays(int i, int j, int delflag) override;
-  void set_arrays(int i) override;
-  int pack_exchange(int i, double *buf) override;
-  int unpack_exchange(int nlocal, double *buf) override;
-  int pack_restart(int i, double *buf) override;
-  void unpack_restart(int nlocal, int nth) override;
-  int size_restart(int i) override;
-  int maxsize_restart() override;
   double memory_usage() override;
 
   // Per-atom view for tests/diagnostics: number of partners of local atom i, and the k-th.
-  int npartner(int i) const { return npartner_[i]; }
-  LAMMPS_NS::tagint partner(int i, int k) const { return pool_tag_[offset_[i] + k]; }
-  const double *partner_values(int i, int k) const { return &pool_val_[(offset_[i] + k) * nv_]; }
+  int npartner(int i) const { return partners_.npartner[i]; }
+  LAMMPS_NS::tagint partner(int i, int k) const { return partners_.pool_tag[partners_.offset[i] + k]; }
+  const double *partner_values(int i, int k) const { return &partners_.pool_val[(partners_.offset[i] + k) * nv_]; }
+
+ protected:
+  // PerAtomCallbacksFix's hooks: a restart mid-run needs the per-atom lists of this step (sync_atoms);
+  // restored lists replace the list-order slots; another model's restart data: warn, no history.
+  void flush_records() override { sync_atoms(); }
+  void check_restored(int i) override;
+  void restart_mismatch(int i) override;
 
  private:
-  int nv_;
+  const int nv_;
   LAMMPS_NS::NeighList *list_ = nullptr;
   bool list_valid_ = false;   // list-order slots hold the current history
   bool atoms_stale_ = false;  // per-atom lists are older than the list-order slots
@@ -82,12 +81,8 @@ class FixContactHistory : public LAMMPS_NS::Fix {
   std::vector<LAMMPS_NS::tagint> list_tag_;
   int list_nlocal_ = 0;
 
-  // per atom: a run of npartner_[i] entries at offset_[i] of the pool (copies share runs)
-  std::vector<int> npartner_;
-  std::vector<std::size_t> offset_;
-  std::vector<LAMMPS_NS::tagint> own_tag_;  // the atom's tag when its list was written (0: unknown)
-  std::vector<LAMMPS_NS::tagint> pool_tag_;
-  std::vector<double> pool_val_;
+  // per atom: a run of npartner[i] entries at offset[i] of the pool (copies share runs)
+  PartnerLists partners_;
 
   // global vector, reduced once per call site
   double stats_[4] = {0, 0, 0, 0};
@@ -97,8 +92,6 @@ class FixContactHistory : public LAMMPS_NS::Fix {
   void list_from_atoms();
   void follow_renumbered_tags();
   void compact_pool();
-  int pack_partners(int i, double *buf) const;
-  int unpack_partners(int i, const double *buf);
   void set_maxexchange(int most_partners);
   std::size_t live_entries() const;
 };

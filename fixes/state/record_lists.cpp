@@ -67,6 +67,13 @@ int RecordLists::unpack(int i, const double *buf)
   return 1 + n;
 }
 
+bool RecordLists::is_packed_atom(const double *buf, int size) const
+{
+  if (size < 1) return false;
+  const int n = static_cast<int>(buf[0]);
+  return size == 1 + n && n >= 0 && n % rs_ == 0;
+}
+
 long RecordLists::total(int n) const
 {
   long t = 0;

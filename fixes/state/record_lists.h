@@ -7,18 +7,20 @@
 // key, so any fix with per-atom, per-entity state can keep it here.
 #pragma once
 
+#include "atom_lists.h"
+
 #include <cstddef>
 #include <utility>
 #include <vector>
 
 namespace dembridge::state {
 
-class RecordLists {
+class RecordLists final : public AtomLists {
  public:
   explicit RecordLists(int record_size) : rs_(record_size) {}
 
   int record_size() const { return rs_; }
-  void resize(int nmax) { lists_.resize(nmax); }
+  void resize(int nmax) override { lists_.resize(nmax); }
   int count(int i) const { return static_cast<int>(lists_[i].size()) / rs_; }
   double *record(int i, int r) { return &lists_[i][std::size_t(r) * rs_]; }
   const double *record(int i, int r) const { return &lists_[i][std::size_t(r) * rs_]; }
@@ -31,13 +33,15 @@ class RecordLists {
   int find(int i, double key) const;
   void erase(int i, int r);   // the last record takes its place (order is not kept)
   void remove(int i, int r);  // the later records move up one place (order kept)
-  void clear(int i);         // also frees the atom's memory
-  void copy(int from, int to);
+  void clear(int i) override;  // also frees the atom's memory
+  void copy(int from, int to) override;
 
   // Wire format of one atom: [n, n values]; pack returns the doubles written, unpack those read.
-  int packed_size(int i) const { return 1 + static_cast<int>(lists_[i].size()); }
-  int pack(int i, double *buf) const;
-  int unpack(int i, const double *buf);
+  int packed_size(int i) const override { return 1 + static_cast<int>(lists_[i].size()); }
+  int pack(int i, double *buf) const override;
+  int unpack(int i, const double *buf) override;
+  // n whole records, and nothing else.
+  bool is_packed_atom(const double *buf, int size) const override;
 
   // Sum of count(i) over atoms 0..n-1.
   long total(int n) const;

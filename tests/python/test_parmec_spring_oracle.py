@@ -28,7 +28,7 @@ D8 = "table D -1 -8e5 1 8e5"
 def oracle(case, variant=""):
     d = os.path.join(ORACLE, variant, case)
     meta = json.load(open(os.path.join(d, "meta.json")))
-    for name in ("history.csv", "history.csv.gz", "history_thinned.csv.gz"):
+    for name in ("history.csv", "history.csv.gz", "history_thinned.csv.gz", "history_sampled.csv.gz"):
         p = os.path.join(d, name)
         if os.path.exists(p):
             f = gzip.open(p, "rt") if p.endswith(".gz") else open(p)

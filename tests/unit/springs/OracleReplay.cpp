@@ -1,6 +1,7 @@
 #include "OracleReplay.h"
 
 #include <cmath>
+#include <cstdio>
 
 void ReplayDeviations::print(const std::string& name) const {
   displacement.print(name + " displacement");
@@ -8,16 +9,32 @@ void ReplayDeviations::print(const std::string& name) const {
   force.print(name + " spring F,SF");
   stroke.print(name + " spring STROKE");
   if (friction.scale > 0.0) friction.print(name + " spring FF");
+  std::printf("[agreement] %-58s %ld rows compared\n", name.c_str(), rows);
+}
+
+bool RowSample::compared(double time) const {
+  if (interval <= 0.0) return true;
+  const long k = std::lround(time / interval);
+  return k < first || k % every == 0;
+}
+
+long RowSample::expected_rows(double last_time) const {
+  if (interval <= 0.0) return -1;
+  long n = 0;
+  for (long k = 1; k <= std::lround(last_time / interval); ++k) n += (k < first || k % every == 0) ? 1 : 0;
+  return n;
 }
 
 ReplayDeviations replay_against(reference::LeapFrog& model, const oracle::History& h, double step,
-                                const std::vector<std::string>& body_prefix) {
+                                const std::vector<std::string>& body_prefix, const RowSample& sample) {
   ReplayDeviations dev;
   auto has = [&](const std::string& c) { return h.cols.count(c) > 0; };
   const char* axes = "XYZ";
   for (std::size_t r = 1; r < h.rows(); ++r) {
+    if (!sample.compared(h["TIME"][r])) continue;
     const long n = std::lround(h["TIME"][r] / step);
     while (model.steps() < n + 1) model.step();
+    ++dev.rows;
     for (std::size_t i = 0; i < body_prefix.size(); ++i) {
       const auto& b = model.bodies()[i];
       for (int c = 0; c < 3; ++c) {

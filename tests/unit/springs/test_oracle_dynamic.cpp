@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 #include "OracleReplay.h"
 
@@ -44,6 +45,30 @@ SpringLaw law_of(const SpringTable& spring, const SpringTable* dashpot, double r
   return l;
 }
 
+// The long recordings (spring, spring_chain, the three spring_contact_plane*) are kept thinned
+// (history_sampled.csv.gz, README.md): every sample of the first 1000 (where a wrong start, e.g. the first
+// force evaluation, shows before round-off hides it), then every 10th. The replay still runs every step.
+// `samples`: the recording's last sample index; the test checks that every sampled row was compared.
+struct Thinned {
+  RowSample sample;
+  long samples;
+};
+Thinned thinned(const std::string& dir, long samples) {
+  const std::string meta = oracle::dir(dir + "/meta.json");
+  RowSample s;
+  try {
+    s.interval = oracle::meta_number(meta, "history_interval");
+  } catch (const std::runtime_error&) {
+    s.interval = oracle::meta_number(meta, "step");  // a row every step
+  }
+  s.first = 1000;
+  s.every = 10;
+  return {s, samples};
+}
+void expect_all_sampled_rows(const ReplayDeviations& dev, const Thinned& t) {
+  EXPECT_EQ(dev.rows, t.sample.expected_rows(double(t.samples) * t.sample.interval));
+}
+
 }  // namespace
 
 // Point mass m = 2 on a CONSTANT-direction linear spring k = 100 to space, v0 = 1: ratio dashpot
@@ -76,7 +101,7 @@ namespace {
 // tests/spring.py family: unit cube hung by a FOLLOWER spring from its corner (1,1,1) to the same spatial
 // point (zero initial length), spring [-1,-1e7,1,1e7], gravity -10 z.
 ReplayDeviations run_hung_cube(const std::string& dir, const std::string& file, const SpringLaw& law,
-                               EqmArm arm = EqmArm::Correct) {
+                               EqmArm arm = EqmArm::Correct, const RowSample& sample = {}) {
   const std::string meta = oracle::dir(dir + "/meta.json");
   const double step = oracle::meta_number(meta, "step");
   const auto h = oracle::read_history(oracle::dir(dir + "/" + file));
@@ -86,7 +111,7 @@ ReplayDeviations run_hung_cube(const std::string& dir, const std::string& file, 
   opt.eqm_arm = arm;
   const V3 corner(1, 1, 1);
   LeapFrog lf({cube(h, "")}, {LeapFrog::make_spring(0, corner, -1, corner, DirectionMode::Follower, {}, law)}, opt);
-  return replay_against(lf, h, step, {""});
+  return replay_against(lf, h, step, {""}, sample);
 }
 
 }  // namespace
@@ -94,8 +119,10 @@ ReplayDeviations run_hung_cube(const std::string& dir, const std::string& file, 
 // 40078 steps of a swinging, strongly damped cube: round-off growth only.
 TEST(OracleDynamic, SpringHungCubeMatchesParmec) {
   const SpringLaw law = law_of(table({-1, -1e7, 1, 1e7}), &table({-1, -8e5, 1, 8e5}));
-  const auto dev = run_hung_cube("spring", "history.csv", law);
+  const Thinned t = thinned("spring", 40077);
+  const auto dev = run_hung_cube("spring", "history_sampled.csv", law, EqmArm::Correct, t.sample);
   dev.print("spring");
+  expect_all_sampled_rows(dev, t);
   EXPECT_LE(dev.displacement.relative(), 1e-9);
   EXPECT_LE(dev.velocity.relative(), 1e-9);
   EXPECT_LE(dev.force.relative(), 1e-9);
@@ -152,10 +179,11 @@ namespace {
 
 // tests/spring_chain*.py: 10 cubes [i, i+1]^3; spring i-1 joins cube i at (i,i,i) to cube i-1 (the same
 // point); spring 9 hangs cube 9 at (10,10,10) from space; gravity -10 z.
-ReplayDeviations run_chain(const std::string& dir, const SpringLaw& link, const SpringLaw& top, EqmArm arm) {
+ReplayDeviations run_chain(const std::string& dir, const SpringLaw& link, const SpringLaw& top, EqmArm arm,
+                           const std::string& file = "history.csv", const RowSample& sample = {}) {
   const std::string meta = oracle::dir(dir + "/meta.json");
   const double step = oracle::meta_number(meta, "step");
-  const auto h = oracle::read_history(oracle::dir(dir + "/history.csv"));
+  const auto h = oracle::read_history(oracle::dir(dir + "/" + file));
   std::vector<Body> bodies;
   std::vector<std::string> prefixes;
   std::vector<reference::Spring> springs;
@@ -170,7 +198,7 @@ ReplayDeviations run_chain(const std::string& dir, const SpringLaw& link, const 
   opt.gravity = V3(0, 0, -10);
   opt.eqm_arm = arm;
   LeapFrog lf(bodies, springs, opt);
-  return replay_against(lf, h, step, prefixes);
+  return replay_against(lf, h, step, prefixes, sample);
 }
 
 }  // namespace
@@ -178,8 +206,10 @@ ReplayDeviations run_chain(const std::string& dir, const SpringLaw& link, const 
 // 96380 steps of a 10-body chain (history every 10th step).
 TEST(OracleDynamic, SpringChainMatchesParmec) {
   const SpringLaw law = law_of(table({-1, -1e7, 1, 1e7}), &table({-1, -8e5, 1, 8e5}));
-  const auto dev = run_chain("spring_chain", law, law, EqmArm::Correct);
+  const Thinned t = thinned("spring_chain", 9637);
+  const auto dev = run_chain("spring_chain", law, law, EqmArm::Correct, "history_sampled.csv", t.sample);
   dev.print("spring_chain");
+  expect_all_sampled_rows(dev, t);
   EXPECT_LE(dev.displacement.relative(), 1e-9);
   EXPECT_LE(dev.velocity.relative(), 1e-9);
   EXPECT_LE(dev.force.relative(), 1e-9);
@@ -206,10 +236,11 @@ namespace {
 // springs from its bottom corners: CONSTANT direction z with the gap table [0,0,1,0,2,1e7] (spring_contact)
 // or point-to-plane z = 0 with [-1,1e7,0,0,1,0] and friction 0.1 (spring_contact_plane: v0 = (1,1,0),
 // omega0 = (0.25, 0.5, 1), as row 0 of the oracle says).
-ReplayDeviations run_contact(const std::string& dir, bool plane, double kskn, bool quirks) {
+ReplayDeviations run_contact(const std::string& dir, bool plane, double kskn, bool quirks,
+                             const std::string& file = "history.csv", const RowSample& sample = {}) {
   const std::string meta = oracle::dir(dir + "/meta.json");
   const double step = oracle::meta_number(meta, "step");
-  const auto h = oracle::read_history(oracle::dir(dir + "/history.csv"));
+  const auto h = oracle::read_history(oracle::dir(dir + "/" + file));
   const Body b = cube(h, "");  // spin and (plane cases) sliding velocity from row 0
   const SpringTable& dash = table({-1, -8e5, 1, 8e5});
   SpringLaw law = plane ? law_of(table({-1, 1e7, 0, 0, 1, 0}), &dash) : law_of(table({0, 0, 1, 0, 2, 1e7}), &dash);
@@ -228,7 +259,7 @@ ReplayDeviations run_contact(const std::string& dir, bool plane, double kskn, bo
   opt.gravity = V3(0, 0, -10);
   opt.q1 = opt.q3 = quirks;
   LeapFrog lf({b}, springs, opt);
-  return replay_against(lf, h, step, {""});
+  return replay_against(lf, h, step, {""}, sample);
 }
 
 }  // namespace
@@ -250,12 +281,13 @@ TEST(OracleDynamic, SpringContactMatchesParmec) {
 }
 
 TEST(OracleDynamic, SpringContactPlaneMatchesParmec) {
-  const auto fixed = run_contact("fixedQ1Q3/spring_contact_plane", true, 0.0, false);
+  const Thinned t = thinned("spring_contact_plane", 12062);
+  const auto fixed = run_contact("fixedQ1Q3/spring_contact_plane", true, 0.0, false, "history_sampled.csv", t.sample);
   fixed.print("fixedQ1Q3/spring_contact_plane");
-  const auto up = run_contact("spring_contact_plane", true, 0.0, true);
+  const auto up = run_contact("spring_contact_plane", true, 0.0, true, "history_sampled.csv", t.sample);
   up.print("spring_contact_plane (upstream, Q1+Q3 emulated)");
   // the two builds really differ (README: ~0.1 %), so matching each with its own quirk setting is a test
-  const auto crossed = run_contact("spring_contact_plane", true, 0.0, false);
+  const auto crossed = run_contact("spring_contact_plane", true, 0.0, false, "history_sampled.csv", t.sample);
   crossed.print("spring_contact_plane (upstream) vs quirk-free driver");
   EXPECT_GT(crossed.force.relative(), 1e-6);
   for (const auto* d : {&fixed, &up}) {
@@ -264,13 +296,16 @@ TEST(OracleDynamic, SpringContactPlaneMatchesParmec) {
     EXPECT_LE(d->force.relative(), 1e-9);
     EXPECT_LE(d->friction.relative(), 1e-9);
     EXPECT_GT(d->friction.scale, 0.0);
+    expect_all_sampled_rows(*d, t);
   }
 }
 
 // kskn = 0.5 (stick-slip friction); only an upstream run exists, so Q1 and Q3 are emulated.
 TEST(OracleDynamic, SpringContactPlaneKsknMatchesParmec) {
-  const auto up = run_contact("spring_contact_plane_kskn", true, 0.5, true);
+  const Thinned t = thinned("spring_contact_plane_kskn", 12062);
+  const auto up = run_contact("spring_contact_plane_kskn", true, 0.5, true, "history_sampled.csv", t.sample);
   up.print("spring_contact_plane_kskn (upstream, Q1+Q3 emulated)");
+  expect_all_sampled_rows(up, t);
   EXPECT_LE(up.displacement.relative(), 1e-9);
   EXPECT_LE(up.velocity.relative(), 1e-9);
   EXPECT_LE(up.force.relative(), 1e-9);

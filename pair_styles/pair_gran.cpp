@@ -226,6 +226,7 @@ void PairGran::init_style()
   } catch (const gran::MaterialError &e) {
     error->all(FLERR, e.what());
   }
+  uniform_coeffs_ = table_.uniform();
   if (model_.contact.history_size() > 0) {
     create_history_fix();
   } else {
@@ -297,6 +298,7 @@ gran::PairLoopData PairGran::loop_data() const
   d.dt = update->dt;
   d.coeffs = &table_.at(0, 0);
   d.coeff_stride = table_.max_type() + 1;
+  d.uniform_coeffs = uniform_coeffs_;
   d.max_type = table_.max_type();
   d.law = &law_;
   return d;

@@ -58,6 +58,7 @@ class PairGran : public LAMMPS_NS::Pair {
   gran::ModelDescription model_;
   gran::ContactLaw law_;
   gran::MaterialTable table_;
+  bool uniform_coeffs_ = false;  // table_.uniform(), once per init
   std::vector<double> maxrad_dynamic_, maxrad_frozen_;  // per type, for the cutoff
   int freeze_groupbit_ = 0;
   FixContactHistory *history_ = nullptr;

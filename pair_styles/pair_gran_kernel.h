@@ -36,6 +36,7 @@ struct PairLoopData {
   double dt = 0.0;
   const PairCoeffs *coeffs = nullptr;  // coeffs[itype * coeff_stride + jtype]
   int coeff_stride = 0;
+  bool uniform_coeffs = false;  // every type pair has coeffs[coeff_stride + 1] (MaterialTable::uniform)
   int max_type = 0;
   const ContactLaw *law = nullptr;
 };

@@ -1,16 +1,21 @@
 // The contact law on a batch of touching pairs four at a time (the AVX2 loop of
-// pair_gran_loop.h, LAMMPS laws): each pair's atom data is gathered into one lane, the law
-// (lammps_gran_law over Lanes4, contact/lammps_models.h) runs lane-wise with the IEEE operations of
-// the scalar code and no FMA, and the results go to the sink one pair at a time in list order, so
-// forces are summed as in the scalar loop and results stay bit-identical (issue 12, P2).
+// pair_gran_loop.h; LAMMPS and LIGGGHTS laws): each pair's atom data is gathered into one lane, the
+// law (lammps_gran_law or liggghts_pair_law over Lanes4, contact/) runs lane-wise with the IEEE
+// operations of the scalar code and no FMA, and the results go to the sink one pair at a time in
+// list order, so forces are summed as in the scalar loop and results stay bit-identical (issue 12,
+// P1/P2). The type pair's coefficients (only the fields the kernel reads, Kernel::kCoeffFields) are
+// broadcast once per batch when the table is uniform (one atom type: the chute, most decks), else
+// gathered per four pairs.
 #pragma once
 
 #include "pair_gran_kernel.h"
 #include "pair_gran_scan.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <immintrin.h>
 #include <limits>
+#include <utility>
 
 namespace dembridge::gran::loop_detail {
 
@@ -23,8 +28,28 @@ constexpr int kLaneMaxHistory = 6;  // history values per pair the lanes carry
 // field names less mi, mj and the LIGGGHTS coefficients), which the loop fills directly.
 struct PairLanes {
   Lanes4 del[3], rsq, radi, radj, vi[3], vj[3], wi[3], wj[3], mi, mj, meff;
-  PairCoeffsT<Lanes4> pc;
 };
+
+// The fields of Mask (PairCoeffFields, pair_coeffs.h) of a four-lane coefficient set, each from
+// load(&the field in c0): a gather over the type pairs of four lanes, or one broadcast value.
+template <unsigned Mask, std::size_t K, class Load>
+[[gnu::always_inline, gnu::target("avx2")]] inline void load_coeff(PairCoeffsT<Lanes4> &out, const PairCoeffs &c0, const Load &load)
+{
+  if constexpr ((Mask >> K) & 1u) {
+    constexpr auto lanes_field = PairCoeffFields<Lanes4>::kAll[K];
+    constexpr auto field = PairCoeffFields<double>::kAll[K];
+    out.*lanes_field = load(&(c0.*field));
+  }
+}
+template <unsigned Mask, class Load, std::size_t... K>
+[[gnu::always_inline, gnu::target("avx2")]] inline void load_coeffs(PairCoeffsT<Lanes4> &out, const PairCoeffs &c0, const Load &load, std::index_sequence<K...>)
+{
+  (load_coeff<Mask, K>(out, c0, load), ...);
+}
+template <unsigned Mask, class Load> [[gnu::always_inline, gnu::target("avx2")]] inline void load_coeffs(PairCoeffsT<Lanes4> &out, const PairCoeffs &c0, const Load &load)
+{
+  load_coeffs<Mask>(out, c0, load, std::make_index_sequence<PairCoeffFields<double>::kCount>{});
+}
 
 // Fallback: the per-pair evaluation, for the kernels without a lane form (Kernel::kLanes false).
 template <class Fallback> struct LaneContacts {
@@ -46,6 +71,14 @@ template <class Fallback> struct LaneContacts {
     return (LaneMask4)_mm256_cvtepi32_epi64(v) != 0;
   }
   [[gnu::always_inline, gnu::target("avx2")]] static unsigned bits(LaneMask4 m) { return unsigned(_mm256_movemask_pd((__m256d)m)); }
+  // coefficient loads for load_coeffs: four lanes' type pairs (element offsets from the field), or one value
+  struct GatherAt {
+    __m128i offset;
+    [[gnu::always_inline, gnu::target("avx2")]] Lanes4 operator()(const double *field) const { return gather(field, offset); }
+  };
+  struct Broadcast {
+    [[gnu::always_inline, gnu::target("avx2")]] Lanes4 operator()(const double *field) const { return _mm256_broadcast_sd(field); }
+  };
 
   template <class Kernel, class Sink>
   // out of line: inlined, its register demand made the per-atom scan loop spill (about 18 Ir per atom-step)
@@ -73,6 +106,12 @@ template <class Fallback> struct LaneContacts {
       alignas(32) double out[kOut][Batch::kCapacity];
       static_assert(sizeof(PairCoeffs) % sizeof(double) == 0);
       const __m128i coeff_stride = _mm_set1_epi32(d.coeff_stride), coeff_doubles = _mm_set1_epi32(int(sizeof(PairCoeffs) / sizeof(double)));
+      // One type pair's coefficients for every pair (one atom type, or equal materials): broadcast
+      // once per batch instead of gathered per four pairs; the law reads them from memory.
+      PairCoeffsT<Lanes4> broadcast, gathered;
+      const bool uniform = d.uniform_coeffs;
+      if (uniform) load_coeffs<Kernel::kCoeffFields>(broadcast, d.coeffs[d.coeff_stride + 1], Broadcast{});
+      const PairCoeffsT<Lanes4> &pc = uniform ? broadcast : gathered;
       const __m128i freeze = _mm_set1_epi32(d.freeze_groupbit);
       const __m256i nv4 = _mm256_set1_epi64x(d.nv);
       for (int c = 0; c < n4; c += 4) {
@@ -105,7 +144,7 @@ template <class Fallback> struct LaneContacts {
           const int k = __builtin_ctz(coincident | infinite);
           return {(coincident >> k) & 1 ? PairLoopError::Coincident : PairLoopError::NoFiniteMass, b.i[c + k], b.j[c + k]};
         }
-        if constexpr (Kernel::kAllCoeffs) {  // the LIGGGHTS laws also read the masses
+        if constexpr (Kernel::kMasses) {  // the LIGGGHTS laws also read the masses
           p.mi = mi;
           p.mj = mj;
         }
@@ -116,27 +155,9 @@ template <class Fallback> struct LaneContacts {
           p.wi[k] = gather(d.omega + k, i3);
           p.wj[k] = gather(d.omega + k, j3);
         }
-        const __m128i pair_type = _mm_add_epi32(_mm_mullo_epi32(gather(d.type, iv), coeff_stride), gather(d.type, jv));
-        const __m128i coeff = _mm_mullo_epi32(pair_type, coeff_doubles);
-        const PairCoeffs &c0 = *d.coeffs;
-        p.pc.kn = gather(&c0.kn, coeff);
-        p.pc.kt = gather(&c0.kt, coeff);
-        p.pc.gamman = gather(&c0.gamman, coeff);
-        p.pc.gammat = gather(&c0.gammat, coeff);
-        p.pc.mu = gather(&c0.mu, coeff);
-        if constexpr (Kernel::kAllCoeffs) {
-          p.pc.Yeff = gather(&c0.Yeff, coeff);
-          p.pc.Geff = gather(&c0.Geff, coeff);
-          p.pc.lnE = gather(&c0.lnE, coeff);
-          p.pc.beta = gather(&c0.beta, coeff);
-          p.pc.char_vel = gather(&c0.char_vel, coeff);
-          p.pc.mu_roll = gather(&c0.mu_roll, coeff);
-          p.pc.eta_roll = gather(&c0.eta_roll, coeff);
-          p.pc.roll_stiffness = gather(&c0.roll_stiffness, coeff);
-          p.pc.cohesion_energy_density = gather(&c0.cohesion_energy_density, coeff);
-          p.pc.fluid_viscosity = gather(&c0.fluid_viscosity, coeff);
-          p.pc.critical_stokes = gather(&c0.critical_stokes, coeff);
-          p.pc.ln_max_restitution = gather(&c0.ln_max_restitution, coeff);
+        if (!uniform) {
+          const __m128i pair_type = _mm_add_epi32(_mm_mullo_epi32(gather(d.type, iv), coeff_stride), gather(d.type, jv));
+          load_coeffs<Kernel::kCoeffFields>(gathered, *d.coeffs, GatherAt{_mm_mullo_epi32(pair_type, coeff_doubles)});
         }
         Lanes4 hist[Kernel::kLaneHistory > 0 ? Kernel::kLaneHistory : Kernel::kLaneHistory == 0 ? 1 : kLaneMaxHistory] = {};
         if (with_history) {  // slot * nv: slots are below 2^32 (neighbour-list entries of one rank)
@@ -144,7 +165,7 @@ template <class Fallback> struct LaneContacts {
           for (int k = 0; k < nv; k++) hist[k] = gather64(d.hist + k, first);
         }
         ContactResultT<Lanes4> o;
-        Kernel::lanes(d, p, hist, o);
+        Kernel::lanes(d, p, pc, hist, o);
         for (int k = 0; k < 3; k++) {
           _mm256_store_pd(out[kF + k] + c, o.F[k]);
           _mm256_store_pd(out[kTi + k] + c, o.Ti[k]);

@@ -22,13 +22,15 @@ template <bool Hertz, bool History, bool LimitDamping> struct LammpsKernel {
   static constexpr bool kHistory = History;
 #ifdef DEMBRIDGE_HAVE_LANE_CONTACTS
   // four pairs at a time in the AVX2 loop (pair_gran_lanes.h)
-  static constexpr bool kLanes = true, kAllCoeffs = false;
+  static constexpr bool kLanes = true, kMasses = false;
   static constexpr int kLaneHistory = History ? 3 : 0;  // the shear
   static bool lanes_ok(const PairLoopData &d) { return !History || !d.hist || d.nv >= 3; }
-  using LaneIn = LammpsPairIn<Lanes4>;  // gathered into directly: no zero-initialised coefficients, no copy
-  [[gnu::always_inline]] static void lanes(const PairLoopData &d, const LaneIn &in, Lanes4 *hist, ContactResultT<Lanes4> &out)
+  using LaneIn = LammpsPairIn<Lanes4>;  // gathered into directly, no copy
+  static constexpr unsigned kCoeffFields = kLammpsCoeffFields;  // the coefficients the lanes gather or broadcast
+  [[gnu::always_inline]] static void lanes(const PairLoopData &d, const LaneIn &in, const PairCoeffsT<Lanes4> &pc, Lanes4 *hist,
+                                           ContactResultT<Lanes4> &out)
   {
-    lammps_gran_law<Hertz, History, LimitDamping>(in, hist, d.history_update, d.dt, out);
+    lammps_gran_law<Hertz, History, LimitDamping>(in, pc, hist, d.history_update, d.dt, out);
   }
 #endif
   [[gnu::always_inline]] static void touching(const PairLoopData &d, const SphereView &a, const SphereView &b, const double *del,
@@ -42,13 +44,15 @@ template <bool Hertz, bool History, bool LimitDamping> struct LammpsKernel {
 template <NormalModel Normal, TangentialModel Tangential> struct LiggghtsKernel {
   static constexpr bool kHistory = true;  // rolling springs may need it whatever the tangential model
 #ifdef DEMBRIDGE_HAVE_LANE_CONTACTS
-  static constexpr bool kLanes = true, kAllCoeffs = true;
+  static constexpr bool kLanes = true, kMasses = true;
   static constexpr int kLaneHistory = -1;  // d.nv (tangential and rolling springs)
   static bool lanes_ok(const PairLoopData &d) { return liggghts_laws_have_lanes(d.law->config()) && d.nv <= kLaneMaxHistory; }
   using LaneIn = PairLanes;
-  [[gnu::always_inline]] static void lanes(const PairLoopData &d, const LaneIn &p, Lanes4 *hist, ContactResultT<Lanes4> &out)
+  static constexpr unsigned kCoeffFields = liggghts_coeff_fields(Normal);
+  [[gnu::always_inline]] static void lanes(const PairLoopData &d, const LaneIn &p, const PairCoeffsT<Lanes4> &pc, Lanes4 *hist,
+                                           ContactResultT<Lanes4> &out)
   {
-    liggghts_pair_law<Normal, Tangential>(d.law->config(), p.del, p.rsq, p.radi, p.radj, p.vi, p.vj, p.wi, p.wj, p.mi, p.mj, p.meff, p.pc,
+    liggghts_pair_law<Normal, Tangential>(d.law->config(), p.del, p.rsq, p.radi, p.radj, p.vi, p.vj, p.wi, p.wj, p.mi, p.mj, p.meff, pc,
                                           hist, d.history_update, d.dt, out);
   }
 #else

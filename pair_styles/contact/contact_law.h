@@ -101,6 +101,22 @@ template <bool Wall, class R>
 // The configurations whose laws have a lane form (all but rolling cdt).
 inline bool liggghts_laws_have_lanes(const ContactConfig &cfg) { return !cfg.lammps_formulation && rolling_has_lanes(cfg.rolling); }
 
+// The coefficients the LIGGGHTS laws may read with normal model n (a mask over PairCoeffFields,
+// pair_coeffs.h): the normal model's, friction, rolling and cohesion. The AVX2 loop moves only these.
+constexpr unsigned liggghts_coeff_fields(NormalModel n)
+{
+  using P = PairCoeffs;
+  const unsigned common = coeff_mask(&P::mu, &P::mu_roll, &P::eta_roll, &P::roll_stiffness, &P::cohesion_energy_density);
+  switch (n) {
+    case NormalModel::Hooke:
+      return common | coeff_mask(&P::Yeff, &P::char_vel, &P::lnE, &P::fluid_viscosity, &P::critical_stokes, &P::ln_max_restitution);
+    case NormalModel::Hertz: return common | coeff_mask(&P::Yeff, &P::Geff, &P::beta);
+    case NormalModel::HookeStiffness:
+    case NormalModel::HertzStiffness: break;
+  }
+  return common | coeff_mask(&P::kn, &P::kt, &P::gamman, &P::gammat);
+}
+
 template <bool Wall>
 [[gnu::always_inline]] inline void ContactLaw::apply_laws(const ContactConfig &cfg, const ContactGeometry &g, const SphereView &a,
                                                          const double *roll_wi, const double *roll_wj, double mj, double rj,

@@ -18,17 +18,17 @@ namespace dembridge::gran {
 // What the LAMMPS laws read of one touching pair (R = double), or of four (R = Lanes4, one pair
 // per lane; lane_math.h): del = x_i - x_j and its square from the neighbour loop's overlap test.
 // Field names as the LIGGGHTS laws' lane input (pair_gran_lanes.h), so that the AVX2 loop gathers
-// straight into either.
-template <class R> struct LammpsCoeffs {
-  R kn, kt, gamman, gammat, mu;  // of the type pair's PairCoeffs
-};
+// straight into either. The type pair's coefficients come separately (PairCoeffsT<R>: kn, kt,
+// gamman, gammat, mu), so that the AVX2 loop can pass four gathered pairs' or one broadcast set.
 template <class R> struct LammpsPairIn {
   R del[3], rsq;
   R radi, radj;
   R vi[3], vj[3], wi[3], wj[3];  // velocities and angular velocities
   R meff;
-  LammpsCoeffs<R> pc;
 };
+// The coefficients lammps_gran_law reads (mask over PairCoeffFields, pair_coeffs.h).
+constexpr unsigned kLammpsCoeffFields =
+    coeff_mask(&PairCoeffs::kn, &PairCoeffs::kt, &PairCoeffs::gamman, &PairCoeffs::gammat, &PairCoeffs::mu);
 
 // The law, written once over the number type R. Hertz, History and LimitDamping are template
 // arguments so that the neighbour loop has no run-time switch per contact (issue 12). Branches on
@@ -37,7 +37,8 @@ template <class R> struct LammpsPairIn {
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"  // R = Lanes4 is only ever inlined into AVX2 code (lane_math.h)
 template <bool Hertz, bool History, bool LimitDamping, class R>
-[[gnu::always_inline]] inline void lammps_gran_law(const LammpsPairIn<R> &in, R *shear, bool update, double dt, ContactResultT<R> &out)
+[[gnu::always_inline]] inline void lammps_gran_law(const LammpsPairIn<R> &in, const PairCoeffsT<R> &pc, R *shear, bool update, double dt,
+                                                 ContactResultT<R> &out)
 {
   constexpr bool kScalar = std::is_same_v<R, double>;
   const R delx = in.del[0], dely = in.del[1], delz = in.del[2], rsq = in.rsq;
@@ -50,8 +51,8 @@ template <bool Hertz, bool History, bool LimitDamping, class R>
   const R wr2 = (radi * in.wi[1] + radj * in.wj[1]) * rinv;
   const R wr3 = (radi * in.wi[2] + radj * in.wj[2]) * rinv;
 
-  const R damp = in.meff * in.pc.gamman * vnnr * rsqinv;
-  R ccel = in.pc.kn * (radsum - r) * rinv - damp;
+  const R damp = in.meff * pc.gamman * vnnr * rsqinv;
+  R ccel = pc.kn * (radsum - r) * rinv - damp;
   R polyhertz = lane_splat(1.0, r);
   if constexpr (Hertz) {
     polyhertz = lane_sqrt((radsum - r) * radi * radj / radsum);
@@ -78,15 +79,15 @@ template <bool Hertz, bool History, bool LimitDamping, class R>
       shear[1] -= rsht * dely;
       shear[2] -= rsht * delz;
     }
-    const R mg = in.meff * in.pc.gammat;
-    fs1 = -polyhertz * (in.pc.kt * shear[0] + mg * vtr1);
-    fs2 = -polyhertz * (in.pc.kt * shear[1] + mg * vtr2);
-    fs3 = -polyhertz * (in.pc.kt * shear[2] + mg * vtr3);
+    const R mg = in.meff * pc.gammat;
+    fs1 = -polyhertz * (pc.kt * shear[0] + mg * vtr1);
+    fs2 = -polyhertz * (pc.kt * shear[1] + mg * vtr2);
+    fs3 = -polyhertz * (pc.kt * shear[2] + mg * vtr3);
     // Coulomb check on the total (spring + damping) force; slip rescales the spring
     const R fs = lane_sqrt(fs1 * fs1 + fs2 * fs2 + fs3 * fs3);
-    const R fn = in.pc.mu * lane_fabs(ccel * r);
+    const R fn = pc.mu * lane_fabs(ccel * r);
     const R vtr[3] = {vtr1, vtr2, vtr3};
-    auto slip_spring = [&](const R &ratio, int k, R &spring) { spring = ratio * (shear[k] + mg * vtr[k] / in.pc.kt) - mg * vtr[k] / in.pc.kt; };
+    auto slip_spring = [&](const R &ratio, int k, R &spring) { spring = ratio * (shear[k] + mg * vtr[k] / pc.kt) - mg * vtr[k] / pc.kt; };
     if constexpr (kScalar) {
       if (fs > fn) {
         if (shrmag != 0.0) {
@@ -113,8 +114,8 @@ template <bool Hertz, bool History, bool LimitDamping, class R>
     }
   } else {
     const R vrel = lane_sqrt(vtr1 * vtr1 + vtr2 * vtr2 + vtr3 * vtr3);
-    const R fn = in.pc.mu * lane_fabs(ccel * r);
-    const R fs = in.meff * in.pc.gammat * vrel;
+    const R fn = pc.mu * lane_fabs(ccel * r);
+    const R fs = in.meff * pc.gammat * vrel;
     R ft;
     if constexpr (kScalar) ft = vrel != 0.0 ? std::min(fn, fs) / vrel : 0.0;
     else ft = lane_select(vrel != 0.0, lane_min(fn, fs) / vrel, lane_splat(0.0, r));
@@ -152,8 +153,14 @@ template <bool Hertz, bool History, bool LimitDamping>
   const LammpsPairIn<double> in{{delx, dely, delz}, rsq, a.radius, b.radius,
                                 {a.v[0], a.v[1], a.v[2]}, {b.v[0], b.v[1], b.v[2]},
                                 {a.omega[0], a.omega[1], a.omega[2]}, {b.omega[0], b.omega[1], b.omega[2]},
-                                meff, {pc.kn, pc.kt, pc.gamman, pc.gammat, pc.mu}};
-  lammps_gran_law<Hertz, History, LimitDamping>(in, shear, update, dt, out);
+                                meff};
+  PairCoeffs c;  // a local copy: the law's stores to shear cannot alias it (the table's doubles could)
+  c.kn = pc.kn;
+  c.kt = pc.kt;
+  c.gamman = pc.gamman;
+  c.gammat = pc.gammat;
+  c.mu = pc.mu;
+  lammps_gran_law<Hertz, History, LimitDamping>(in, c, shear, update, dt, out);
 }
 
 

@@ -3,6 +3,7 @@
 #include "vec3.h"
 
 #include <cmath>
+#include <cstring>
 
 namespace dembridge::gran {
 
@@ -180,6 +181,15 @@ MaterialTable MaterialTable::build(const ModelDescription &model, const Property
       }
   }
   return t;
+}
+
+bool MaterialTable::uniform() const
+{
+  if (max_type_ < 1) return false;
+  for (int i = 1; i <= max_type_; ++i)
+    for (int j = 1; j <= max_type_; ++j)
+      if (std::memcmp(&at(i, j), &at(1, 1), sizeof(PairCoeffs)) != 0) return false;
+  return true;
 }
 
 }  // namespace dembridge::gran

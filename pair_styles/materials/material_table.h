@@ -32,6 +32,9 @@ class MaterialTable {
 
   int max_type() const { return max_type_; }
   const PairCoeffs &at(int itype, int jtype) const { return table_[itype * (max_type_ + 1) + jtype]; }
+  // Whether every type pair has the same coefficients, bit for bit (one atom type, or equal
+  // materials): the pair loop then broadcasts them instead of looking them up per pair.
+  bool uniform() const;
   // The names of the properties this model read (for restart bookkeeping and messages).
   const std::vector<std::string> &used_properties() const { return used_; }
 

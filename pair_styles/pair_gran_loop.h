@@ -18,8 +18,17 @@
 namespace dembridge::gran {
 namespace loop_detail {
 
+// The loop a model runs when DEMBRIDGE_PAIR_SCAN does not choose (use_avx2_scan), per kernel
+// (Kernel::kAvx2ByDefault): the scalar one for every model. On the development machine (AMD EPYC,
+// AVX-512 capable) the AVX2 loop executes 15-20 % fewer instructions but took 16-26 % more CPU time
+// and wall time than the scalar loop for all five chute models measured (interleaved rounds,
+// bench/run_chute_bench.py --loops, doc/benchmarks.md): its gathers are one instruction each but
+// many cycles. Both loops give bit-identical results; DEMBRIDGE_PAIR_SCAN=avx2 selects the AVX2 one.
+constexpr bool kAvx2LoopByDefault = false;
+
 template <bool Hertz, bool History, bool LimitDamping> struct LammpsKernel {
   static constexpr bool kHistory = History;
+  static constexpr bool kAvx2ByDefault = kAvx2LoopByDefault;
 #ifdef DEMBRIDGE_HAVE_LANE_CONTACTS
   // four pairs at a time in the AVX2 loop (pair_gran_lanes.h)
   static constexpr bool kLanes = true, kMasses = false;
@@ -43,6 +52,7 @@ template <bool Hertz, bool History, bool LimitDamping> struct LammpsKernel {
 
 template <NormalModel Normal, TangentialModel Tangential> struct LiggghtsKernel {
   static constexpr bool kHistory = true;  // rolling springs may need it whatever the tangential model
+  static constexpr bool kAvx2ByDefault = kAvx2LoopByDefault;
 #ifdef DEMBRIDGE_HAVE_LANE_CONTACTS
   static constexpr bool kLanes = true, kMasses = true;
   static constexpr int kLaneHistory = -1;  // d.nv (tangential and rolling springs)
@@ -128,16 +138,21 @@ using Contacts = ScalarContacts;
 #pragma GCC pop_options
 #endif
 
-// AVX2 when the CPU has it, unless DEMBRIDGE_PAIR_SCAN=scalar (tests compare the two).
-inline bool use_avx2_scan()
+// Which loop runs: the AVX2 one needs the CPU to have AVX2; DEMBRIDGE_PAIR_SCAN=scalar or =avx2
+// forces one (tests and bench/run_chute_bench.py --loops compare the two: same numbers), otherwise
+// the kernel's default (Kernel::kAvx2ByDefault: the loop that was faster in wall time, doc/benchmarks.md).
+inline bool use_avx2_scan(bool by_default)
 {
 #ifdef DEMBRIDGE_HAVE_AVX2_SCAN
-  static const bool use = [] {
+  static const int forced = [] {  // -1: not forced, 0: scalar, 1: AVX2
+    if (!__builtin_cpu_supports("avx2")) return 0;
     const char *env = std::getenv("DEMBRIDGE_PAIR_SCAN");
-    return __builtin_cpu_supports("avx2") && !(env && std::string_view(env) == "scalar");
+    const std::string_view v = env ? env : "";
+    return v == "scalar" ? 0 : v == "avx2" ? 1 : -1;
   }();
-  return use;
+  return forced < 0 ? by_default : forced == 1;
 #else
+  (void)by_default;
   return false;
 #endif
 }
@@ -145,7 +160,7 @@ inline bool use_avx2_scan()
 template <class Kernel, class Sink> PairLoopError pair_loop(const PairLoopData &d, int ii_begin, int ii_end, Sink &sink)
 {
 #ifdef DEMBRIDGE_HAVE_AVX2_SCAN
-  if (use_avx2_scan()) return avx2_scan::pair_loop<Kernel>(d, ii_begin, ii_end, sink);
+  if (use_avx2_scan(Kernel::kAvx2ByDefault)) return avx2_scan::pair_loop<Kernel>(d, ii_begin, ii_end, sink);
 #endif
   return scalar_scan::pair_loop<Kernel>(d, ii_begin, ii_end, sink);
 }

@@ -10,7 +10,7 @@ namespace dembridge::springs {
 // state and st.tangent_stiffness and returns the elastic force F. stroke = len - stroke0 of this
 // step, offset = o(t_n) (0 without an offset TSERIES; ignored once yielded, §4.2).
 // Inline (below): every spring calls it every step; the yield paths stay out of line.
-double elastic_step(const SpringLaw& law, SpringState& st, double stroke, double offset);
+[[gnu::always_inline]] inline double elastic_step(const SpringLaw& law, SpringState& st, double stroke, double offset);
 
 // Whether f lies outside the current yield limits [yc, yt].
 inline bool beyond_limits(const SpringState& st, double f) { return f < st.yield_comp || f > st.yield_tens; }
@@ -23,7 +23,7 @@ void first_yield(SpringState& st, double stroke, double f);
 // reduces |F|; when the force would change sign it becomes 0 and the code becomes kZeroForce.
 double unspring_unload_step(const SpringTable& curve, SpringState& st, double stroke);
 
-inline double elastic_step(const SpringLaw& law, SpringState& st, double stroke, double offset) {
+[[gnu::always_inline]] inline double elastic_step(const SpringLaw& law, SpringState& st, double stroke, double offset) {
   if (law.general() && st.yielded) return yielded_step(law, st, stroke);
   st.stroke = stroke;
   const auto r = law.spring->lookup(stroke - offset, law.fused);

@@ -33,7 +33,8 @@ struct SpringFrame {
 // parmec: Parmec's rounding (forces.ispc as its build compiles it): the unit direction as (1/len)·w instead
 // of w/len, and dot products and projections by fused multiply-adds (Vec3.h).
 // Inline (below), as relative_velocity: evaluated for every spring every step.
-SpringFrame spring_frame(DirectionMode mode, const Vec3& d, const SpringKinematics& kin, bool parmec = false);
+[[gnu::always_inline]] inline SpringFrame spring_frame(DirectionMode mode, const Vec3& d, const SpringKinematics& kin,
+                                                       bool parmec = false);
 
 // stroke0 from the reference points (spec §2.1 table); 0 for Plane.
 double reference_stroke0(DirectionMode mode, const Vec3& d, const Vec3& P1, const Vec3& P2);
@@ -58,7 +59,8 @@ inline Vec3 unit_of(const Vec3& w, double len, bool reciprocal) {
   return {inv * w[0], inv * w[1], inv * w[2]};
 }
 
-inline SpringFrame spring_frame(DirectionMode mode, const Vec3& d, const SpringKinematics& kin, bool parmec) {
+[[gnu::always_inline]] inline SpringFrame spring_frame(DirectionMode mode, const Vec3& d, const SpringKinematics& kin,
+                                                       bool parmec) {
   SpringFrame f;
   auto dotp = [parmec](const Vec3& a, const Vec3& b) { return parmec ? dot_fused(a, b) : dot(a, b); };
   // w - (w.d) d (Parmec: w -= s d, one rounding per component)

@@ -30,12 +30,13 @@ struct SpringForce {
 };
 
 // Inline (below): the spring fix calls it for every spring every step.
-SpringForce advance_spring(const SpringLaw& law, SpringState& st, const SpringFrame& frame, const SpringStepInput& in);
+[[gnu::always_inline]] inline SpringForce advance_spring(const SpringLaw& law, SpringState& st, const SpringFrame& frame,
+                                                          const SpringStepInput& in);
 
 namespace detail {
 
 // Dashpot force and coefficient c (spec §5): table slope, or c = zeta 2 sqrt(|k_tan| m_eq).
-inline void dashpot(const SpringLaw& law, const SpringState& st, double velocity, double m_eq, double& force, double& c) {
+[[gnu::always_inline]] inline void dashpot(const SpringLaw& law, const SpringState& st, double velocity, double m_eq, double& force, double& c) {
   if (law.ratio_dashpot()) {
     c = law.damping_ratio * 2.0 * std::sqrt(std::fabs(st.tangent_stiffness) * m_eq);
     force = c * velocity;
@@ -51,8 +52,8 @@ inline void dashpot(const SpringLaw& law, const SpringState& st, double velocity
 
 }  // namespace detail
 
-inline SpringForce advance_spring(const SpringLaw& law, SpringState& st, const SpringFrame& frame,
-                                  const SpringStepInput& in) {
+[[gnu::always_inline]] inline SpringForce advance_spring(const SpringLaw& law, SpringState& st, const SpringFrame& frame,
+                                                          const SpringStepInput& in) {
   SpringForce out;
   const double stroke = frame.len - in.stroke0;
   if (st.code <= kManaged) {

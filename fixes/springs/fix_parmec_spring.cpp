@@ -14,7 +14,10 @@
 #include "domain.h"
 #include "error.h"
 #include "memory.h"
+#include "compute.h"
 #include "modify.h"
+#include "neighbor.h"
+#include "output.h"
 #include "update.h"
 #include "utils.h"
 
@@ -410,6 +413,13 @@ void FixParmecSpring::init()
       error->all(FLERR, cmd_ + ": spring " + std::to_string(d.id) + ": ratio dashpot needs atom masses");
   }
   check_record_count();  // one state per spring, on part1's owner
+  // Readers of the local output outside output steps (see output_wanted): they may read on any step.
+  readers_every_step_ = false;
+  for (const Compute *c : modify->get_compute_list())
+    readers_every_step_ = readers_every_step_ || utils::strmatch(c->style, "^reduce");
+  for (const Fix *f : modify->get_fix_list())
+    readers_every_step_ = readers_every_step_ || utils::strmatch(f->style, "^ave/histo") ||
+                          utils::strmatch(f->style, "^python") || utils::strmatch(f->style, "^external");
   rigid_ = nullptr;
   if (parmec_order_) {
     const auto rigid = modify->get_fix_by_style("^parmec/rigid$");
@@ -476,6 +486,11 @@ void FixParmecSpring::evaluate(Mode mode)
   ctx.nall = nlocal + atom->nghost;
   ctx.periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
   ctx.rot = rigid_ ? rigid_->array_atom : nullptr;
+  // Local and ghost indices change only when the neighbour lists are rebuilt (exchange, sort, borders).
+  ctx.recheck = ctx.periodic || neighbor->ncalls != plan_builds_;
+  plan_builds_ = neighbor->ncalls;
+  ctx.fill = output_wanted(mode);
+  auto spring = parmec_order_ ? &FixParmecSpring::evaluate_spring<true> : &FixParmecSpring::evaluate_spring<false>;
 
   // Phase 1, threaded: every spring from its own record and the atoms' (read-only) data; it writes its
   // record, its output row, its plan item and its result only, so the outcome does not depend on the
@@ -488,10 +503,10 @@ void FixParmecSpring::evaluate(Mode mode)
 #pragma omp single nowait
     threads_used_ = std::max(threads_used_, omp_get_num_threads());
 #pragma omp for schedule(static)
-    for (int r = 0; r < total; r++) flags |= evaluate_spring(ctx, r);
+    for (int r = 0; r < total; r++) flags |= (this->*spring)(ctx, r);
   }
 #else
-  for (int r = 0; r < total; r++) flags |= evaluate_spring(ctx, r);
+  for (int r = 0; r < total; r++) flags |= (this->*spring)(ctx, r);
 #endif
 
   if (mode == Mode::Commit) hot_dirty_ = true;
@@ -627,7 +642,7 @@ bool FixParmecSpring::refresh_plan()
   plan_.resize(first_[nlocal]);
   for (int i = 0; i < nlocal; i++)
     for (int s = 0, r = first_[i]; r < first_[i + 1]; s++, r++)
-      plan_[r] = {records_.record(i, s), &defs_[records_.key(i, s)], i, -1};
+      plan_[r] = {records_.record(i, s), &defs_[records_.key(i, s)], records_.key(i, s), i, -1};
   plan_generation_ = records_.generation();
   plan_nlocal_ = nlocal;
   plan_nall_ = nall;
@@ -642,8 +657,19 @@ void FixParmecSpring::sync_records() const
   hot_dirty_ = false;
 }
 
+// Whether the local output rows (and the EQM column, which only ratio dashpots need otherwise) are written
+// in this evaluation: trial and setup evaluations, steps with output (thermo, dumps: output->next), the last
+// step of a run (read by the library between runs), and every step when a compute reduce, fix ave/histo,
+// python or external fix exists (they read at steps of their own).
+bool FixParmecSpring::output_wanted(Mode mode) const
+{
+  return mode != Mode::Commit || readers_every_step_ || update->ntimestep == output->next ||
+         update->ntimestep == update->laststep;
+}
+
 // One spring (evaluation index r of the plan). Thread-safe: reads atoms and definitions, writes only its
 // record, output row r, plan_[r] and results_[r]; failures are recorded, reported by evaluate().
+template <bool Parmec>
 int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
 {
   const sp::Vec3 zero3{0, 0, 0};
@@ -652,7 +678,7 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
   const int i = item.i;
   double *slot = item.slot;
   const SpringDef &d = *item.def;
-  const int idx = static_cast<int>(item.def - defs_.data());
+  const int idx = item.key;
   SpringResult &res = results_[r];
   res.i = i;
   res.k = -1;
@@ -672,7 +698,7 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
   }
   // attachment points (spec §2.2). 'order parmec': as Parmec forms them, p = x + Λ(P − X) with the stored Λ
   // of fix parmec/rigid, a = p − x (also b, q); otherwise the arm from the atom quaternion.
-  const bool parmec = ctx.rot != nullptr;
+  constexpr bool parmec = Parmec;
   sp::Vec3 a, p;
   if (parmec) {
     p = xj + sp::rotate_fused(ctx.rot[i], d.arm1);
@@ -686,7 +712,7 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
   if (d.tag2 >= 0) {
     // part2 where it was last time unless its tag moved (ghosts rebuilt) or images may change (periodic)
     k = item.k;
-    if (ctx.periodic || k < 0 || k >= ctx.nall || ctx.tag[k] != d.tag2) {
+    if (k < 0 || (ctx.recheck && (ctx.periodic || k >= ctx.nall || ctx.tag[k] != d.tag2))) {
       k = second_atom_or_missing(idx, i, true);
       if (k != item.k) flags |= kMoved;
       item.k = k;
@@ -746,8 +772,10 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
     in.time = ctx.tnow - ctx.dt;  // Parmec's label t_n of the positions x_{n+1/2} (kernel doc §5)
     in.dt = ctx.dt;
     try {
-      eqm = spring_eqm(ctx, d, i, k, frame.z);
-      in.equivalent_mass = std::isnan(eqm) ? 0.0 : eqm;
+      if (ctx.fill || d.law.needs_equivalent_mass()) {
+        eqm = spring_eqm(ctx, d, i, k, frame.z);
+        in.equivalent_mass = std::isnan(eqm) ? 0.0 : eqm;
+      }
       if (state.code >= 0) {
         auto u = unspring_unload_.find(state.code);
         in.unspring_unload = u == unspring_unload_.end() ? nullptr : u->second;
@@ -782,6 +810,7 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
       }
     }
   }
+  if (!ctx.fill) return flags;
   double *out = array_local[r];
   out[0] = static_cast<double>(d.id);
   state_columns(state, out + 1);

@@ -129,6 +129,8 @@ class FixParmecSpring : public state::PerAtomStateFix {
     const LAMMPS_NS::tagint *tag = nullptr;
     int nall = 0;           // local + ghost atoms
     bool periodic = false;  // part2's closest image looked up every step
+    bool recheck = true;    // part2's index checked by tag (atoms re-indexed since the last evaluation, or periodic)
+    bool fill = true;       // write the local output rows (something reads them this step)
   };
   enum class Failure { None, Part2Missing, TooLong, Kernel };
   // What one spring gives its atoms (force, torque per side), written by the (threaded) evaluation and
@@ -145,6 +147,7 @@ class FixParmecSpring : public state::PerAtomStateFix {
   struct PlanItem {
     double *slot = nullptr;
     const SpringDef *def = nullptr;
+    int key = 0;  // spring index (def - defs_)
     int i = 0;   // local atom holding the record (part1)
     int k = -1;  // part2's local/ghost index found last time (checked by tag every step), -1: none yet
   };
@@ -168,7 +171,12 @@ class FixParmecSpring : public state::PerAtomStateFix {
   int threads_used_ = 0;  // most OpenMP threads of the spring loop in this run
   // Returns kMoved if part2's index differs from the plan's (the plan is updated), kFailed on a failure.
   enum : int { kMoved = 1, kFailed = 2 };
-  int evaluate_spring(const EvalContext &ctx, int r);
+  // Parmec: 'order parmec' (compiled once per mode, so that the default loop carries none of its branches).
+  template <bool Parmec> int evaluate_spring(const EvalContext &ctx, int r);
+  // The local output is written only on steps where something can read it (output_wanted()).
+  bool readers_every_step_ = false;  // a compute reduce, fix ave/histo, python or external fix exists (init)
+  bool output_wanted(Mode mode) const;
+  LAMMPS_NS::bigint plan_builds_ = -1;  // neighbor->ncalls at the last evaluation (ghosts re-indexed since?)
   void record_failure(SpringResult &res, const char *what);
   [[noreturn]] void report_failure(const SpringResult &res);
   double spring_eqm(const EvalContext &c, const SpringDef &d, int i, int k, const springs::Vec3 &dir) const;

@@ -14,7 +14,7 @@
 
 #include "definition_reader.h"
 #include "per_atom_state_fix.h"
-#include "TimeSeries.h"
+#include "time_series.h"
 
 #include <array>
 #include <string>

@@ -14,9 +14,9 @@
 
 #include "per_atom_state_fix.h"
 
-#include "BodyRotation.h"
-#include "JointSolver.h"
-#include "TimeSeries.h"
+#include "body_rotation.h"
+#include "joint_solver.h"
+#include "time_series.h"
 
 #include <map>
 #include <memory>

@@ -5,9 +5,9 @@
 
 #include "style_registry.h"
 
-#include "CriticalStep.h"
-#include "EquivalentMass.h"
-#include "SpringStep.h"
+#include "critical_step.h"
+#include "equivalent_mass.h"
+#include "spring_step.h"
 
 #include "atom.h"
 #include "comm.h"

@@ -15,11 +15,11 @@
 #include "local_incidence.h"
 #include "per_atom_state_fix.h"
 
-#include "SpringGeometry.h"
-#include "SpringLaw.h"
-#include "SpringState.h"
-#include "SpringTable.h"
-#include "TimeSeries.h"
+#include "spring_geometry.h"
+#include "spring_law.h"
+#include "spring_state.h"
+#include "spring_table.h"
+#include "time_series.h"
 
 #include <array>
 #include <string>

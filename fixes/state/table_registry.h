@@ -3,8 +3,8 @@
 // registry owns them for the fix's lifetime (pointers stay valid: std::map never moves its nodes).
 #pragma once
 
-#include "SpringTable.h"
-#include "TimeSeries.h"
+#include "spring_table.h"
+#include "time_series.h"
 
 #include <map>
 #include <string>

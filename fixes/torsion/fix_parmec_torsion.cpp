@@ -5,8 +5,8 @@
 
 #include "style_registry.h"
 
-#include "AxisInertia.h"
-#include "TorsionStep.h"
+#include "axis_inertia.h"
+#include "torsion_step.h"
 
 #include "atom.h"
 #include "comm.h"

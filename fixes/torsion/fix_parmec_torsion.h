@@ -14,10 +14,10 @@
 #include "definition_reader.h"
 #include "per_atom_state_fix.h"
 
-#include "SpringTable.h"
-#include "TorsionFrame.h"
-#include "TorsionLaw.h"
-#include "TorsionState.h"
+#include "spring_table.h"
+#include "torsion_frame.h"
+#include "torsion_law.h"
+#include "torsion_state.h"
 
 #include <string>
 #include <unordered_map>

@@ -4,7 +4,7 @@
 #include "fix_parmec_spring.h"
 #include "style_registry.h"
 
-#include "UnspringTest.h"
+#include "unspring_test.h"
 
 #include "comm.h"
 #include "error.h"

@@ -15,8 +15,8 @@
 
 #include "definition_reader.h"
 
-#include "TimeSeries.h"
-#include "UnspringRule.h"
+#include "time_series.h"
+#include "unspring_rule.h"
 
 #include <map>
 #include <memory>

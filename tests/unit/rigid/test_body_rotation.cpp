@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "BodyRotation.h"
+#include "body_rotation.h"
 
 using namespace dembridge::rigid;
 

@@ -3,7 +3,7 @@
 // a body, clusters are the connected components, redundant constraints are reported as singular.
 #include <gtest/gtest.h>
 
-#include "JointSolver.h"
+#include "joint_solver.h"
 
 using namespace dembridge::rigid;
 

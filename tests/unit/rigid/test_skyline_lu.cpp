@@ -5,7 +5,7 @@
 #include <Eigen/Dense>
 #include <random>
 
-#include "SkylineLU.h"
+#include "skyline_lu.h"
 
 using dembridge::rigid::SkylineLU;
 

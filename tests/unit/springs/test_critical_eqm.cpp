@@ -8,10 +8,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "CriticalStep.h"
-#include "EquivalentMass.h"
-#include "OracleData.h"
-#include "SpringTable.h"
+#include "critical_step.h"
+#include "equivalent_mass.h"
+#include "oracle_data.h"
+#include "spring_table.h"
 
 using namespace dembridge::springs;
 

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "OracleReplay.h"
+#include "oracle_replay.h"
 
 using namespace dembridge::springs;
 using reference::Body;

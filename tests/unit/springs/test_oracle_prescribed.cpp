@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "Deviation.h"
-#include "OracleData.h"
-#include "SpringGeometry.h"
-#include "SpringState.h"
-#include "SpringStep.h"
+#include "deviation.h"
+#include "oracle_data.h"
+#include "spring_geometry.h"
+#include "spring_state.h"
+#include "spring_step.h"
 
 using namespace dembridge::springs;
 

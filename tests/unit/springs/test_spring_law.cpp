@@ -6,12 +6,12 @@
 #include <stdexcept>
 #include <vector>
 
-#include "ElasticResponse.h"
-#include "SpringFriction.h"
-#include "SpringGeometry.h"
-#include "SpringLaw.h"
-#include "SpringState.h"
-#include "SpringStep.h"
+#include "elastic_response.h"
+#include "spring_friction.h"
+#include "spring_geometry.h"
+#include "spring_law.h"
+#include "spring_state.h"
+#include "spring_step.h"
 
 using namespace dembridge::springs;
 

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "SpringTable.h"
-#include "TimeSeries.h"
+#include "spring_table.h"
+#include "time_series.h"
 
 using namespace dembridge::springs;
 

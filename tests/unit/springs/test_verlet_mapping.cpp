@@ -9,10 +9,10 @@
 #include <cstdio>
 #include <vector>
 
-#include "Deviation.h"
-#include "OracleData.h"
-#include "SpringGeometry.h"
-#include "SpringStep.h"
+#include "deviation.h"
+#include "oracle_data.h"
+#include "spring_geometry.h"
+#include "spring_step.h"
 
 using namespace dembridge::springs;
 

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "TorsionStep.h"
+#include "torsion_step.h"
 
 namespace dt = dembridge::torsion;
 using dembridge::springs::SpringTable;

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <vector>
 
-#include "AxisInertia.h"
-#include "RigidReplay.h"
-#include "TorsionStep.h"
+#include "axis_inertia.h"
+#include "rigid_replay.h"
+#include "torsion_step.h"
 
 namespace dt = dembridge::torsion;
 using dembridge::springs::SpringTable;

@@ -5,7 +5,7 @@
 
 #include <cstdio>
 
-#include "TorsionOracle.h"
+#include "torsion_oracle.h"
 
 namespace {
 

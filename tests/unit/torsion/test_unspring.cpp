@@ -6,10 +6,10 @@
 #include <cmath>
 #include <limits>
 
-#include "Deviation.h"
-#include "OracleData.h"
-#include "SpringStep.h"
-#include "UnspringTest.h"
+#include "deviation.h"
+#include "oracle_data.h"
+#include "spring_step.h"
+#include "unspring_test.h"
 
 namespace dt = dembridge::torsion;
 namespace ds = dembridge::springs;

@@ -4,9 +4,9 @@
 #include <map>
 #include <string>
 
-#include "TorsionFrame.h"
-#include "TorsionLaw.h"
-#include "UnspringRule.h"
+#include "torsion_frame.h"
+#include "torsion_law.h"
+#include "unspring_rule.h"
 
 namespace dt = dembridge::torsion;
 using dembridge::springs::SpringTable;

@@ -5,7 +5,7 @@
 #include <array>
 
 #include "spring_law.h"
-#include "vec3.h"
+#include "spring_vec3.h"
 
 namespace dembridge::springs {
 

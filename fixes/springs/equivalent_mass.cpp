@@ -24,7 +24,7 @@ Mat3 point_inverse_mass_matrix(const BodyMass& b, const Vec3& P, EqmArm arm) {
 }
 
 // Parmec's eqm() (parmec.ispc, compiled with contraction, quirk Q27): M⁻¹ = ([A]×ᵀ J⁻¹) [A]× with every
-// 3-term sum contracted as dot_fused (vec3.h), 1/m added to the diagonal afterwards; part2's matrix added.
+// 3-term sum contracted as dot_fused (spring_vec3.h), 1/m added to the diagonal afterwards; part2's matrix added.
 double fused_sum(double a0, double b0, double a1, double b1, double a2, double b2) {
   return dot_fused(Vec3{a0, a1, a2}, Vec3{b0, b1, b2});
 }

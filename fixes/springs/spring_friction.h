@@ -2,7 +2,7 @@
 #pragma once
 
 #include "spring_state.h"
-#include "vec3.h"
+#include "spring_vec3.h"
 
 namespace dembridge::springs {
 

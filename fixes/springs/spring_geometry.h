@@ -1,7 +1,7 @@
 // Spring direction modes and per-step kinematics (spec parmec-springs §2).
 #pragma once
 
-#include "vec3.h"
+#include "spring_vec3.h"
 
 namespace dembridge::springs {
 
@@ -31,7 +31,7 @@ struct SpringFrame {
 
 // d: the unit direction for Constant/Planar; ignored by Follower and Plane (which uses kin.normal).
 // parmec: Parmec's rounding (forces.ispc as its build compiles it): the unit direction as (1/len)·w instead
-// of w/len, and dot products and projections by fused multiply-adds (vec3.h).
+// of w/len, and dot products and projections by fused multiply-adds (spring_vec3.h).
 // Inline (below), as relative_velocity: evaluated for every spring every step.
 [[gnu::always_inline]] inline SpringFrame spring_frame(DirectionMode mode, const Vec3& d, const SpringKinematics& kin,
                                                        bool parmec = false);

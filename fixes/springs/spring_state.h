@@ -3,7 +3,7 @@
 #pragma once
 
 #include "spring_law.h"
-#include "vec3.h"
+#include "spring_vec3.h"
 
 namespace dembridge::springs {
 

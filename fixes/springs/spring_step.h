@@ -7,7 +7,7 @@
 #include "spring_geometry.h"
 #include "spring_law.h"
 #include "spring_state.h"
-#include "vec3.h"
+#include "spring_vec3.h"
 
 #include <cmath>
 

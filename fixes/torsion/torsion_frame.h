@@ -3,7 +3,7 @@
 
 #include <array>
 
-#include "vec3.h"
+#include "spring_vec3.h"
 
 namespace dembridge::torsion {
 

@@ -3,7 +3,7 @@
 // restart files through pack()/unpack().
 #pragma once
 
-#include "vec3.h"
+#include "spring_vec3.h"
 
 namespace dembridge::torsion {
 

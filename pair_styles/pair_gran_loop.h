@@ -19,16 +19,17 @@ namespace dembridge::gran {
 namespace loop_detail {
 
 // The loop a model runs when DEMBRIDGE_PAIR_SCAN does not choose (use_avx2_scan), per kernel
-// (Kernel::kAvx2ByDefault): the scalar one for every model. On the development machine (AMD EPYC,
-// AVX-512 capable) the AVX2 loop executes 15-20 % fewer instructions but took 16-26 % more CPU time
-// and wall time than the scalar loop for all five chute models measured (interleaved rounds,
-// bench/run_chute_bench.py --loops, doc/benchmarks.md): its gathers are one instruction each but
-// many cycles. Both loops give bit-identical results; DEMBRIDGE_PAIR_SCAN=avx2 selects the AVX2 one.
-constexpr bool kAvx2LoopByDefault = false;
+// (Kernel::avx2_by_default): the one that was faster in wall time on the chute, 1 rank, idle machine
+// (bench/run_chute_bench.py --loops, 3 interleaved rounds, 2026-11-28 16:00 UTC, doc/benchmarks.md).
+// The AVX2 loop executes 15-23 % fewer instructions, but its gathers are one instruction and many
+// cycles each. Paired median time AVX2 / scalar: hooke 1.11, gran/hooke 1.24, hooke/stiffness 1.08
+// (scalar faster); hertz 0.98, 2.x hertz 0.95, hertz + epsd + sjkr 0.90 (AVX2 faster: the Hertz law's
+// square roots and the rolling/cohesion arithmetic outweigh the gathers). Both loops give
+// bit-identical results; DEMBRIDGE_PAIR_SCAN=avx2 or =scalar forces one.
 
 template <bool Hertz, bool History, bool LimitDamping> struct LammpsKernel {
   static constexpr bool kHistory = History;
-  static constexpr bool kAvx2ByDefault = kAvx2LoopByDefault;
+  static bool avx2_by_default(const PairLoopData &) { return Hertz; }
 #ifdef DEMBRIDGE_HAVE_LANE_CONTACTS
   // four pairs at a time in the AVX2 loop (pair_gran_lanes.h)
   static constexpr bool kLanes = true, kMasses = false;
@@ -52,7 +53,11 @@ template <bool Hertz, bool History, bool LimitDamping> struct LammpsKernel {
 
 template <NormalModel Normal, TangentialModel Tangential> struct LiggghtsKernel {
   static constexpr bool kHistory = true;  // rolling springs may need it whatever the tangential model
-  static constexpr bool kAvx2ByDefault = kAvx2LoopByDefault;
+  static bool avx2_by_default(const PairLoopData &d)
+  {
+    const ContactConfig &c = d.law->config();
+    return Normal == NormalModel::Hertz || c.rolling != RollingModel::Off || c.cohesion != CohesionModel::Off;
+  }
 #ifdef DEMBRIDGE_HAVE_LANE_CONTACTS
   static constexpr bool kLanes = true, kMasses = true;
   static constexpr int kLaneHistory = -1;  // d.nv (tangential and rolling springs)
@@ -140,7 +145,7 @@ using Contacts = ScalarContacts;
 
 // Which loop runs: the AVX2 one needs the CPU to have AVX2; DEMBRIDGE_PAIR_SCAN=scalar or =avx2
 // forces one (tests and bench/run_chute_bench.py --loops compare the two: same numbers), otherwise
-// the kernel's default (Kernel::kAvx2ByDefault: the loop that was faster in wall time, doc/benchmarks.md).
+// the kernel's default (Kernel::avx2_by_default: the loop that was faster in wall time, doc/benchmarks.md).
 inline bool use_avx2_scan(bool by_default)
 {
 #ifdef DEMBRIDGE_HAVE_AVX2_SCAN
@@ -160,7 +165,7 @@ inline bool use_avx2_scan(bool by_default)
 template <class Kernel, class Sink> PairLoopError pair_loop(const PairLoopData &d, int ii_begin, int ii_end, Sink &sink)
 {
 #ifdef DEMBRIDGE_HAVE_AVX2_SCAN
-  if (use_avx2_scan(Kernel::kAvx2ByDefault)) return avx2_scan::pair_loop<Kernel>(d, ii_begin, ii_end, sink);
+  if (use_avx2_scan(Kernel::avx2_by_default(d))) return avx2_scan::pair_loop<Kernel>(d, ii_begin, ii_end, sink);
 #endif
   return scalar_scan::pair_loop<Kernel>(d, ii_begin, ii_end, sink);
 }

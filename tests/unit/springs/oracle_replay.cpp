@@ -15,13 +15,16 @@ void ReplayDeviations::print(const std::string& name) const {
 bool RowSample::compared(double time) const {
   if (interval <= 0.0) return true;
   const long k = std::lround(time / interval);
-  return k < first || k % every == 0;
+  if (k < first || k % every == 0) return true;
+  for (const auto& [a, b] : windows)
+    if (a <= time && time <= b) return true;
+  return false;
 }
 
 long RowSample::expected_rows(double last_time) const {
   if (interval <= 0.0) return -1;
   long n = 0;
-  for (long k = 1; k <= std::lround(last_time / interval); ++k) n += (k < first || k % every == 0) ? 1 : 0;
+  for (long k = 1; k <= std::lround(last_time / interval); ++k) n += compared(double(k) * interval) ? 1 : 0;
   return n;
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "deviation.h"
@@ -18,13 +19,15 @@ struct ReplayDeviations {
   void print(const std::string& name) const;
 };
 
-// The history rows compared: sample k = round(TIME / interval) is compared when k < first or k % every == 0.
+// The history rows compared: sample k = round(TIME / interval) is compared when k < first, k % every == 0
+// or TIME lies in one of `windows` (closed time intervals around events, every row there).
 // The oracle's long histories are kept in tests/data thinned by the same rule (thin_histories.py), so the
 // full recording and the thinned copy give the same comparison; `expected_rows` (rows 1..last) lets a test
 // check that none is missing.
 struct RowSample {
   double interval = 0.0;  // the oracle's history interval; 0: compare every row
   long first = 0, every = 1;
+  std::vector<std::pair<double, double>> windows;
   bool compared(double time) const;
   long expected_rows(double last_time) const;
 };

@@ -142,14 +142,23 @@ TEST(OracleDynamic, SpringDampingFactorMatchesParmecWithQ8CompatibilityArm) {
   EXPECT_GT(fixed.force.relative(), 1e-3);  // the documented Q8 difference is real, not round-off
 }
 
-// Offset TSERIES [0,0,5,0,10,1,15,1] evaluated at t_n (linear ramp between 5 s and 10 s): thinned rows.
+// Offset TSERIES [0,0,5,0,10,1,15,1] evaluated at t_n (linear ramp between 5 s and 10 s). The oracle's
+// history_thinned is kept thinned further (thin_histories.py): every step up to 2000, every step within
+// 0.05 s of the ramp's kinks (5 s, 10 s), every 100th elsewhere; the replay runs every step and compares
+// exactly those rows.
 TEST(OracleDynamic, SpringStrokeOffsetMatchesParmec) {
   const std::string meta = oracle::dir("spring_stroke_offset/meta.json");
   const SpringTable& offset = table(oracle::meta_numbers(meta, "offset_tseries"));
   SpringLaw law = law_of(table({-1, -1e7, 1, 1e7}), &table({-1, -8e5, 1, 8e5}));
   law.offset = &offset;
-  const auto dev = run_hung_cube("spring_stroke_offset", "history_thinned.csv", law);
+  RowSample s;
+  s.interval = oracle::meta_number(meta, "step");
+  s.first = 2001;
+  s.every = 100;
+  s.windows = {{4.95, 5.05}, {9.95, 10.05}};
+  const auto dev = run_hung_cube("spring_stroke_offset", "history_thinned.csv", law, EqmArm::Correct, s);
   dev.print("spring_stroke_offset");
+  EXPECT_EQ(dev.rows, s.expected_rows(120233 * s.interval));  // the recording's last step: 120233
   EXPECT_LE(dev.displacement.relative(), 1e-9);
   EXPECT_LE(dev.force.relative(), 1e-9);
 }

@@ -81,6 +81,18 @@ bool read_colors(state::EntityWords &w, std::size_t n, std::vector<int> &colors)
   return true;
 }
 
+// The words after the n triangles of an obstacle or a MESH body: the colours (required) and the keywords
+// `other` reads (it returns false at a word that is none of them, which ends the definition).
+template <class Other>
+std::vector<int> read_colors_and(state::EntityWords &w, std::size_t n, Other other)
+{
+  std::vector<int> colors;
+  while (w.more())
+    if (!read_colors(w, n, colors) && !other(w.peek())) break;
+  if (colors.empty()) w.fail("expected 'color C' or 'colors C1 ... CN'");
+  return colors;
+}
+
 }  // namespace
 
 FixParmecGranular::FixParmecGranular(LAMMPS *lmp, int narg, char **arg) :
@@ -167,12 +179,9 @@ bool FixParmecGranular::parse_obstacle(const std::vector<std::string> &tok, std:
   d.id = w.id(obstacle_ids_);
   d.triangles = read_triangles(w);
   for (int k = 0; k < 6; k++) d.velocity[k] = "0";
-  bool have_color = false, have_point = false, have_velocity = false;
-  while (w.more()) {
-    const std::string &kw = w.peek();
-    if (read_colors(w, d.triangles.size(), d.colors)) {
-      have_color = true;
-    } else if (kw == "point") {
+  bool have_point = false, have_velocity = false;
+  d.colors = read_colors_and(w, d.triangles.size(), [&](const std::string &kw) {
+    if (kw == "point") {
       d.point = read_point(w, kw);
       have_point = true;
     } else if (kw == "linear" || kw == "angular") {
@@ -181,10 +190,10 @@ bool FixParmecGranular::parse_obstacle(const std::vector<std::string> &tok, std:
       for (int k = 0; k < 3; k++) d.velocity[off + k] = w.next(kw + " component (a number or a tseries ID)");
       have_velocity = true;
     } else {
-      break;
+      return false;
     }
-  }
-  if (!have_color) w.fail("expected 'color C' or 'colors C1 ... CN'");
+    return true;
+  });
   if (have_velocity && !have_point) w.fail("a moving obstacle needs its reference 'point x y z'");
   d.moving = have_point && have_velocity;
   defs_.push_back(std::move(d));
@@ -201,18 +210,13 @@ bool FixParmecGranular::parse_mesh(const std::vector<std::string> &tok, std::siz
   d.tag = w.id(mesh_tags_);
   if (d.tag < 1) w.fail("the atom ID of a MESH body must be >= 1, got " + std::to_string(d.tag));
   d.triangles = read_triangles(w);
-  bool have_color = false, have_centre = false;
-  while (w.more()) {
-    if (read_colors(w, d.triangles.size(), d.colors)) {
-      have_color = true;
-    } else if (w.peek() == "center") {
-      d.centre = read_point(w, "center");
-      have_centre = true;
-    } else {
-      break;
-    }
-  }
-  if (!have_color) w.fail("expected 'color C' or 'colors C1 ... CN'");
+  bool have_centre = false;
+  d.colors = read_colors_and(w, d.triangles.size(), [&](const std::string &kw) {
+    if (kw != "center") return false;
+    d.centre = read_point(w, kw);
+    have_centre = true;
+    return true;
+  });
   if (!have_centre) w.fail("expected 'center X Y Z' (the body's mass centre in the reference configuration)");
   mesh_defs_.push_back(std::move(d));
   return w.accept(i);

@@ -1,5 +1,5 @@
 """Shared harness of the fix parmec/granular tests (test_parmec_granular.py, test_parmec_mesh_contact.py): a Parmec
-script's HISTORY lists on 1 and 2 MPI ranks, and the ERROR of a bad fix definition."""
+script's HISTORY lists on 1 and 2 MPI ranks, the ERROR of a bad fix definition, per-atom arrays in atom-ID order."""
 import json
 import os
 import subprocess
@@ -45,3 +45,12 @@ def fix_error(defs):
     lmp.close()
     assert "fix G parmec/granular" in str(e.value), str(e.value)
     return str(e.value)
+
+
+def atoms_by_id(lmp, *names):
+    """The per-atom arrays `names` ("x", "v", ...) of a serial LAMMPS side by side, rows in atom-ID order (the
+    restart tests compare whole states bitwise)."""
+    import numpy as np
+    n = lmp.get_natoms()
+    order = np.argsort(lmp.numpy.extract_atom("id")[:n])
+    return np.hstack([lmp.numpy.extract_atom(a)[:n][order] for a in names])

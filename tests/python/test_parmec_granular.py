@@ -8,7 +8,7 @@ import pytest
 
 from dembridge import new_lammps
 from dembridge.parmec import ParmecError, run_script
-from parmec_contact_runs import fix_error, histories_on_ranks
+from parmec_contact_runs import atoms_by_id, fix_error, histories_on_ranks
 
 PLANE = "[(-L, -L, 0, L, -L, 0, L, L, 0), (-L, -L, 0, L, L, 0, -L, L, 0)]"  # z = 0, two triangles
 
@@ -305,13 +305,6 @@ def deck(lmp, extra=""):
         lmp.command(c)
 
 
-def positions(lmp):
-    import numpy as np
-    x = lmp.numpy.extract_atom("x")[:lmp.get_natoms()].copy()
-    tag = lmp.numpy.extract_atom("id")[:lmp.get_natoms()].copy()
-    return x[np.argsort(tag)]
-
-
 def test_restart_of_a_moving_obstacle_continues_bitwise(tmp_path):
     """write_restart at step 1500 of 3000, read back with the same fix definitions: the obstacle pose, the Parmec
     clock and every contact's tangential spring continue; positions equal the split run (1500 + 1500 steps in one
@@ -320,7 +313,7 @@ def test_restart_of_a_moving_obstacle_continues_bitwise(tmp_path):
     deck(a)
     a.command("run 1500")
     a.command("run 1500")
-    ref = positions(a)
+    ref = atoms_by_id(a, "x")
     assert a.extract_fix("G", 0, 1, 1) > 0  # obstacle contacts at the end
     a.close()
     b = new_lammps()
@@ -337,7 +330,7 @@ def test_restart_of_a_moving_obstacle_continues_bitwise(tmp_path):
                 "obstacle 1 2 -1 -1 0 1 -1 0 1 1 0 -1 -1 0 1 1 0 -1 1 0 color 3 point 0 0 0 linear 0 0 VZ angular 0 0 0.5",
                 "fix F all gravity 10 vector 0 0 -1", "fix I all nve/sphere", "run 1500"]:
         c.command(cmd)
-    got = positions(c)
+    got = atoms_by_id(c, "x")
     c.close()
     assert (got == ref).all(), abs(got - ref).max()
 

@@ -10,7 +10,7 @@ import pytest
 from dembridge import new_lammps
 from dembridge.parmec import ParmecError, run_script
 from dembridge.parmec import vtk_output
-from parmec_contact_runs import fix_error, histories_on_ranks
+from parmec_contact_runs import atoms_by_id, fix_error, histories_on_ranks
 
 
 # a 2 x 2 x 1 box, top face z = 0, centre (0, 0, -0.5): an 8-node hexahedron
@@ -187,16 +187,6 @@ def deck(lmp, fixes_only=False):
         lmp.command(c)
 
 
-def positions(lmp):
-    import numpy as np
-    n = lmp.get_natoms()
-    x = lmp.numpy.extract_atom("x")[:n].copy()
-    v = lmp.numpy.extract_atom("v")[:n].copy()
-    tag = lmp.numpy.extract_atom("id")[:n].copy()
-    o = np.argsort(tag)
-    return np.hstack([x[o], v[o]])
-
-
 def test_restart_with_mesh_contacts_continues_bitwise(tmp_path):
     """Two spheres sliding with friction on a MESH box (fix parmec/rigid, restrained vertically): write_restart
     at step 1000 of 2000 and read back with the same fixes: positions and velocities of spheres and box equal
@@ -206,7 +196,7 @@ def test_restart_with_mesh_contacts_continues_bitwise(tmp_path):
     a.command("run 1000")
     assert a.extract_fix("G", 0, 1, 5) == 2  # both spheres on the box
     a.command("run 1000")
-    ref = positions(a)
+    ref = atoms_by_id(a, "x", "v")
     a.close()
     b = new_lammps()
     deck(b)
@@ -217,7 +207,7 @@ def test_restart_with_mesh_contacts_continues_bitwise(tmp_path):
     c.command(f"read_restart {tmp_path / 'r.bin'}")
     deck(c, fixes_only=True)
     c.command("run 1000")
-    got = positions(c)
+    got = atoms_by_id(c, "x", "v")
     c.close()
     assert abs(ref[2, 3]) > 1e-3  # the box was dragged
     assert (got == ref).all(), abs(got - ref).max()

@@ -1,5 +1,6 @@
 // MESH body surfaces: triangles placed at x + Λ(P − X) from the body's pose, material velocity v + ω × (p − x).
 #include "mesh_body.h"
+#include "unit_square.h"
 
 #include <gtest/gtest.h>
 
@@ -12,10 +13,7 @@ using dembridge::mesh::TriangleNodes;
 namespace {
 
 // the unit square z = 1 in the reference configuration, body centre X = (0.5, 0.5, 0.5)
-std::vector<TriangleNodes> top()
-{
-  return {TriangleNodes{Vec3{0, 0, 1}, Vec3{1, 0, 1}, Vec3{1, 1, 1}}, TriangleNodes{Vec3{0, 0, 1}, Vec3{1, 1, 1}, Vec3{0, 1, 1}}};
-}
+std::vector<TriangleNodes> top() { return unit_square(1.0); }
 
 }  // namespace
 

@@ -1,5 +1,6 @@
 // OBSTACLE triangle sets: validation and Parmec's rigid motion (point velocity + spatial angular velocity).
 #include "obstacle.h"
+#include "unit_square.h"
 
 #include <gtest/gtest.h>
 
@@ -11,28 +12,19 @@
 using namespace dembridge::parmec_contact;
 using dembridge::mesh::TriangleNodes;
 
-namespace {
-
-std::vector<TriangleNodes> square()
-{
-  return {TriangleNodes{Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{1, 1, 0}}, TriangleNodes{Vec3{0, 0, 0}, Vec3{1, 1, 0}, Vec3{0, 1, 0}}};
-}
-
-}  // namespace
-
 TEST(Obstacle, BadTrianglesAndColoursAreRefused)
 {
   std::vector<TriangleNodes> degenerate{TriangleNodes{Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{2, 0, 0}}};
   EXPECT_ANY_THROW(Obstacle(degenerate, {1}));
   std::vector<TriangleNodes> nan{TriangleNodes{Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, NAN, 0}}};
   EXPECT_ANY_THROW(Obstacle(nan, {1}));
-  EXPECT_THROW(Obstacle(square(), {1}), std::invalid_argument);
-  EXPECT_THROW(Obstacle(square(), {1, 0}), std::invalid_argument);
+  EXPECT_THROW(Obstacle(unit_square(0.0), {1}), std::invalid_argument);
+  EXPECT_THROW(Obstacle(unit_square(0.0), {1, 0}), std::invalid_argument);
 }
 
 TEST(Obstacle, StaticObstacleNeverMoves)
 {
-  Obstacle o(square(), {1, 2});
+  Obstacle o(unit_square(0.0), {1, 2});
   o.start(0.0, 0.1, false);
   o.advance(0.0, 0.1);
   EXPECT_EQ(o.mesh().node(0, 1)[0], 1.0);
@@ -44,7 +36,7 @@ TEST(Obstacle, StaticObstacleNeverMoves)
 TEST(Obstacle, ConstantVelocityIsAtTheParticlesHalfStep)
 {
   const double h = 0.01, vz = 2.0;
-  Obstacle o(square(), {1, 1});
+  Obstacle o(unit_square(0.0), {1, 1});
   o.set_motion({0, 0, 0}, [&](double) { return Vec3{0, 0, vz}; }, nullptr);
   o.start(0.0, h, false);
   EXPECT_DOUBLE_EQ(o.mesh().node(0, 0)[2], 0.5 * h * vz);  // x_{1/2}
@@ -57,7 +49,7 @@ TEST(Obstacle, ConstantVelocityIsAtTheParticlesHalfStep)
 TEST(Obstacle, ParmecStartLeadsByHalfAStep)
 {
   const double h = 0.01;
-  Obstacle o(square(), {1, 1});
+  Obstacle o(unit_square(0.0), {1, 1});
   o.set_motion({0, 0, 0}, [](double t) { return Vec3{t, 0, 0}; }, nullptr);  // v = t
   o.start(0.0, h, true);
   EXPECT_DOUBLE_EQ(o.mesh().node(0, 0)[0], h * 0.5 * h);  // a full step with v(h/2)
@@ -69,7 +61,7 @@ TEST(Obstacle, ParmecStartLeadsByHalfAStep)
 TEST(Obstacle, SpinAboutThePointAndItsMaterialVelocity)
 {
   const double h = 1e-3, w = 3.0;
-  Obstacle o(square(), {1, 1});
+  Obstacle o(unit_square(0.0), {1, 1});
   o.set_motion({0, 0, 0}, nullptr, [&](double) { return Vec3{0, 0, w}; });
   o.start(0.0, h, false);
   double t = 0.0;
@@ -88,7 +80,7 @@ TEST(Obstacle, SaveAndRestoreContinueBitwise)
   auto motion = [](Obstacle &o) {
     o.set_motion({0.2, 0, 0}, [](double t) { return Vec3{std::sin(t), 0, 1}; }, [](double t) { return Vec3{0, t, 1}; });
   };
-  Obstacle a(square(), {1, 1}), b(square(), {1, 1});
+  Obstacle a(unit_square(0.0), {1, 1}), b(unit_square(0.0), {1, 1});
   motion(a);
   motion(b);
   const double h = 0.01;

@@ -71,6 +71,24 @@ class Dump : protected Pointers {
 static_assert(sizeof(Pointers) == 23 * sizeof(void *), "Pointers: vptr + 22 references (pointers.h of 22 Jul 2025)");
 static_assert(sizeof(Dump) == 0x340, "Dump must have liblammps's size (22 Jul 2025)");
 
+// The dump_modify keywords that liblammps's Dump::modify_params() handles itself (they never reach
+// modify_param()) and the field of the protected state each one sets, measured like the figures above: a
+// built-in dump's bytes before and after each keyword ('balance', set only on more than one rank, from the
+// disassembly). A style that writes its own frames reads them to refuse what it does not do
+// (fixes/mesh/dump_mesh.cpp); tests/lammps/test_dump_layout.cpp checks every offset. 'every', 'every/time'
+// and 'first' set Output's state or a public member; 'colname', 'fileper' and 'nfile' fail by themselves
+// on a dump without columns or '%'.
+struct DumpModifyField {
+  const char *keyword;
+  unsigned offset, size;
+};
+inline constexpr DumpModifyField dump_modify_fields[] = {
+    {"append", 0x128, 4}, {"balance", 0x124, 4}, {"buffer", 0x130, 4}, {"delay", 0x158, 4},
+    {"flush", 0x11c, 4},  {"format", 0x1b8, 8},  {"header", 0x15c, 4}, {"maxfiles", 0x288, 4},
+    {"pad", 0x134, 4},    {"pbc", 0x138, 4},     {"skip", 0x188, 4},   {"sort", 0x120, 4},
+    {"time", 0x14c, 4},   {"units", 0x150, 4}};
+#define DEMBRIDGE_DUMP_MODIFY_FIELDS 1
+
 }  // namespace LAMMPS_NS
 
 #endif

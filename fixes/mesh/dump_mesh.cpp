@@ -8,6 +8,7 @@
 #include "modify.h"
 
 #include <cstring>
+#include <string>
 
 using namespace LAMMPS_NS;
 
@@ -60,6 +61,29 @@ DumpMesh::DumpMesh(LAMMPS *lmp, int narg, char **arg) : Dump(lmp, narg, arg)
     if (out_.mesh_ids.empty() && comm->me == 0)
       error->warning(FLERR, out_.caller + ": no fix mesh/surface defined yet, so the files will hold no triangles");
   }
+  modify_fields_at_creation_ = modify_fields();
+}
+
+// write() is ours, so the Dump base's file handling, formats, sorting, delay, skip ... never run: a
+// dump_modify keyword other than those Output reads would be accepted and do nothing.
+void DumpMesh::unsupported_modify_keyword(const std::string &keyword)
+{
+  error->all(FLERR, out_.caller + ": dump_modify keyword '" + keyword +
+                        "' is not supported; the mesh dumps take only 'first', 'every' and 'every/time'");
+}
+
+int DumpMesh::modify_param(int, char **arg) { unsupported_modify_keyword(arg[0]); }
+
+// The bytes of the Dump fields that liblammps's own dump_modify keywords set (lammps_dump_base.h); empty
+// against a LAMMPS that ships dump.h (its fields are not measured: those keywords are not checked there).
+std::vector<unsigned char> DumpMesh::modify_fields() const
+{
+  std::vector<unsigned char> bytes;
+#ifdef DEMBRIDGE_DUMP_MODIFY_FIELDS
+  const auto *base = reinterpret_cast<const unsigned char *>(static_cast<const Dump *>(this));
+  for (const auto &f : dump_modify_fields) bytes.insert(bytes.end(), base + f.offset, base + f.offset + f.size);
+#endif
+  return bytes;
 }
 
 void DumpMesh::check_file_name(MeshArgs &a) const
@@ -103,7 +127,19 @@ bool DumpMesh::vtk_keyword(MeshArgs &a, const std::string &w)
   return true;
 }
 
-void DumpMesh::init_style() { check_mesh_ids(lmp, out_); }
+void DumpMesh::init_style()
+{
+#ifdef DEMBRIDGE_DUMP_MODIFY_FIELDS
+  const std::vector<unsigned char> now = modify_fields();
+  std::size_t at = 0;
+  for (const auto &f : dump_modify_fields) {
+    if (std::memcmp(now.data() + at, modify_fields_at_creation_.data() + at, f.size) != 0)
+      unsupported_modify_keyword(f.keyword);
+    at += f.size;
+  }
+#endif
+  check_mesh_ids(lmp, out_);
+}
 
 void DumpMesh::write() { write_mesh_frame(lmp, out_); }
 

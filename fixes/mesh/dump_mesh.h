@@ -4,10 +4,15 @@
 //   dump ID group mesh/vtk N FILE [output face] KEYWORD ... [MESHID ...]
 // Without mesh IDs: every fix mesh/surface(/stress) defined before the dump. Keywords and mesh
 // IDs in any order. The files are written by mesh_output.h, as those of fix mesh/dump.
+// dump_modify: only 'first', 'every' and 'every/time' act on these dumps (LAMMPS's Output reads them);
+// any other keyword is an ERROR naming it (at the dump_modify line when it reaches modify_param(), at
+// the next run for those liblammps's Dump handles itself).
 #pragma once
 
 #include "lammps_dump_base.h"
 #include "mesh_output.h"
+
+#include <vector>
 
 namespace dembridge {
 
@@ -23,12 +28,16 @@ class DumpMesh : public LAMMPS_NS::Dump {
   void write_header(LAMMPS_NS::bigint) override {}
   void pack(LAMMPS_NS::tagint *) override {}
   void write_data(int, double *) override {}
+  int modify_param(int narg, char **arg) override;
 
  private:
   MeshOutput out_;
   bool stl_keyword(MeshArgs &a, const std::string &w);
   bool vtk_keyword(MeshArgs &a, const std::string &w);
   void check_file_name(MeshArgs &a) const;
+  std::vector<unsigned char> modify_fields_at_creation_;  // the fields dump_modify_fields name
+  std::vector<unsigned char> modify_fields() const;
+  [[noreturn]] void unsupported_modify_keyword(const std::string &keyword);
 };
 
 }  // namespace dembridge

@@ -10,6 +10,9 @@
 
 #include <cstring>
 #include <fstream>
+#include <map>
+#include <string>
+#include <vector>
 
 TEST_F(LammpsWithPlugin, BuiltinDumpReadsBackThroughOurDumpDeclaration)
 {
@@ -52,3 +55,34 @@ TEST_F(LammpsWithPlugin, MeshDumpStylesAreRegistered)
   EXPECT_TRUE(lammps_has_style(lmp, "dump", "mesh/stl"));
   EXPECT_TRUE(lammps_has_style(lmp, "dump", "mesh/vtk"));
 }
+
+#ifdef DEMBRIDGE_DUMP_MODIFY_FIELDS  // our declaration (not a real dump.h)
+// The fields lammps_dump_base.h names for liblammps's own dump_modify keywords: each keyword, applied to a
+// built-in dump, changes exactly its field among them (the mesh dumps refuse a keyword by that change).
+TEST_F(LammpsWithPlugin, DumpModifyKeywordsSetTheMeasuredFields)
+{
+  ok("region box block 0 1 0 1 0 1");
+  ok("create_box 1 box");
+  ok("variable s equal step");
+  int nprocs = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &nprocs);
+  const std::map<std::string, std::string> value = {
+      {"append", "yes"}, {"balance", "yes"}, {"buffer", "no"}, {"delay", "5"},   {"flush", "no"},
+      {"format", "line %g"}, {"header", "no"}, {"maxfiles", "2"}, {"pad", "4"}, {"pbc", "yes"},
+      {"skip", "v_s"}, {"sort", "id"}, {"time", "yes"}, {"units", "yes"}};
+  auto *host = static_cast<LAMMPS_NS::LAMMPS *>(lmp);
+  for (const auto &f : LAMMPS_NS::dump_modify_fields) {
+    if (std::strcmp(f.keyword, "balance") == 0 && nprocs == 1) continue;  // set on more than one rank only
+    ASSERT_EQ(value.count(f.keyword), 1u) << f.keyword;
+    ok("dump probe all atom 7 dump_layout_modify*.txt");
+    const auto *d = reinterpret_cast<const unsigned char *>(host->output->get_dump_by_id("probe"));
+    const std::vector<unsigned char> before(d, d + sizeof(LAMMPS_NS::Dump));
+    ok(std::string("dump_modify probe ") + f.keyword + " " + value.at(f.keyword));
+    for (const auto &g : LAMMPS_NS::dump_modify_fields) {
+      const bool changed = std::memcmp(before.data() + g.offset, d + g.offset, g.size) != 0;
+      EXPECT_EQ(changed, &g == &f) << "dump_modify " << f.keyword << ": field of '" << g.keyword << "'";
+    }
+    ok("undump probe");
+  }
+}
+#endif

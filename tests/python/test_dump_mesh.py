@@ -3,6 +3,8 @@ which meshes a line writes, the '*' in file names, that they write what fix mesh
 writer), and bad input. The comparison with LIGGGHTS 3.8 itself is tests/oracle/test_mesh_dump_oracle.py."""
 import os
 import struct
+import subprocess
+import sys
 
 from dembridge import ROOT
 
@@ -77,3 +79,41 @@ def test_bad_input_gives_errors_naming_the_dump_and_the_argument(tmp_path):
             assert n in msg, f"{name}: '{n}' not in: {msg}"
     msg = error_of(deck_head() + MESHES + [f"dump s all mesh/stl 10 {s} pad", "unfix turn", "unfix pad", "run 1"])
     assert msg is not None and "dump mesh/stl (id s)" in msg and "'pad' does not exist" in msg
+
+
+def test_dump_modify_first_and_every_act_other_keywords_are_errors(tmp_path):
+    """'first', 'every' and 'every/time' act (LAMMPS's Output decides when a dump writes); every other
+    dump_modify keyword is an ERROR naming dump_modify, the keyword and those three: the frames are written by
+    the plugin, so the Dump base's formats, sorting, delay, padding ... would silently do nothing."""
+    run(deck_head() + MESHES + ["run 1", f"dump s all mesh/stl 10 {tmp_path}/s*.stl pad", "dump_modify s first yes every 4",
+                                f"dump v all mesh/vtk 10 {tmp_path}/v*.vtk area", "dump_modify v every/time 3e-6",
+                                "run 9"]).close()
+    # first: step 1 though off the interval; every/time 3e-6 at dt 1e-6: steps 3, 6, 9
+    assert sorted(os.listdir(tmp_path)) == ["s1.stl", "s4.stl", "s8.stl", "v3.vtk", "v6.vtk", "v9.vtk"]
+    s = f"{tmp_path}/e*.stl"
+    # read by liblammps's Dump (refused at the run) or passed on to the style (refused at the line)
+    for words in ["append yes", "sort id", "format line %g", "format float %g", "format none", "delay 5", "pad 3",
+                  "maxfiles 2", "flush no", "header no", "pbc yes", "time yes", "units yes", "skip v_s", "colour red"]:
+        msg = error_of(deck_head() + MESHES + ["variable s equal step", f"dump e all mesh/stl 10 {s} pad",
+                                               f"dump_modify e {words}", "run 0"])
+        assert msg is not None, words
+        for needle in ["dump mesh/stl (id e)", f"dump_modify keyword '{words.split()[0]}'", "'first', 'every' and 'every/time'"]:
+            assert needle in msg, f"{words}: '{needle}' not in: {msg}"
+
+
+def test_mesh_dumps_survive_plugin_unload_and_clear(tmp_path):
+    """LAMMPS 22 Jul 2025's 'plugin unload' does not take dump styles, so the mesh dumps stay in LAMMPS's table
+    after 'plugin clear' has unloaded every other style of the plugin (and the loader has dlclose'd it): the
+    plugin is linked -z nodelete, so the dump still runs (a segfault before). In a child process."""
+    script = tmp_path / "unload.py"
+    script.write_text(
+        "from dembridge import new_lammps\nlmp = new_lammps(screen=True)\n"
+        f"for c in ['plugin unload dump mesh/stl', 'plugin clear', 'units si', 'atom_style sphere',\n"
+        f"          'region box block -1 1 -1 1 -1 1', 'create_box 1 box', 'dump d all mesh/stl 10 {tmp_path}/u*.stl',\n"
+        f"          'run 0']:\n    lmp.command(c)\nlmp.close()\n")
+    env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "python"))
+    r = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, env=env, timeout=300)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "Ignoring unload: dump is not a supported plugin style" in r.stdout
+    assert "Unloading fix style mesh/surface" in r.stdout
+    assert (tmp_path / "u0.stl").read_text().strip() == ""  # no mesh left: an empty frame, written

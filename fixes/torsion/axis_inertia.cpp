@@ -27,4 +27,13 @@ Vec3 axis_inertias(const TorsionFrame& f, const Mat3& w1, const Mat3* w2) {
   return {Mi(0, 0), Mi(1, 1), Mi(2, 2)};
 }
 
+Vec3 axis_inertias_parmec(const TorsionFrame& f, const Mat3& body_inv1, const Mat3* body_inv2) {
+  Eigen::Matrix3d R;
+  R << f.x[0], f.y[0], f.z[0], f.x[1], f.y[1], f.z[1], f.x[2], f.y[2], f.z[2];
+  Eigen::Matrix3d Ji = to_eigen(body_inv1);
+  if (body_inv2) Ji += to_eigen(*body_inv2);
+  const Eigen::Matrix3d Mi = (R * Ji * R.transpose()).inverse();
+  return {Mi(0, 0), Mi(1, 1), Mi(2, 2)};
+}
+
 }  // namespace dembridge::torsion

@@ -15,4 +15,9 @@ Mat3 spatial_inverse_inertia(const Mat3& rotation, const Mat3& body_inverse_iner
 // bodies; both agree for isotropic inertia (all oracle cases).
 Vec3 axis_inertias(const TorsionFrame& frame, const Mat3& spatial_inv_inertia1, const Mat3* spatial_inv_inertia2);
 
+// Parmec's formula (spec §7): diagonal of (R (J1⁻¹ + J2⁻¹) Rᵀ)⁻¹ with the referential inverse inertias.
+// Equal to axis_inertias for isotropic bodies while Λ is orthogonal; with Q3 (Λ drifting from
+// orthogonality) the two differ at 1e-7, so 'order parmec' uses this one.
+Vec3 axis_inertias_parmec(const TorsionFrame& frame, const Mat3& body_inv_inertia1, const Mat3* body_inv_inertia2);
+
 }  // namespace dembridge::torsion

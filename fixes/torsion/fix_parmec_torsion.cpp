@@ -12,6 +12,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "modify.h"
 #include "memory.h"
 #include "update.h"
 
@@ -42,7 +43,7 @@ constexpr int kHist = 15;            // history columns per spring
 const char *const kAxis[3] = {"roll", "pitch", "yaw"};
 
 const char *const kOptions[] = {"kroll", "kpitch", "kyaw", "droll", "dpitch", "dyaw", "cone", "refpnt"};
-const char *const kKeywords[] = {"table", "torsion", "file", "history", "start"};
+const char *const kKeywords[] = {"table", "torsion", "file", "history", "start", "order"};
 
 bool is_option(const std::string &s)
 {
@@ -83,7 +84,7 @@ FixParmecTorsion::FixParmecTorsion(LAMMPS *lmp, int narg, char **arg) :
     PerAtomStateFix(lmp, narg, arg, kSlot),
     reader_(lmp, cmd_, state::DefinitionReader::kTable | state::DefinitionReader::kFile |
                            state::DefinitionReader::kHistory | state::DefinitionReader::kStart,
-            "torsion spring", "table, torsion, file, history or start")
+            "torsion spring", "table, torsion, file, history, start or order")
 {
   if (narg < 4)
     error->all(FLERR, cmd_ + ": expected definitions (table, torsion, file, history, start) after the style name");
@@ -92,6 +93,10 @@ FixParmecTorsion::FixParmecTorsion(LAMMPS *lmp, int narg, char **arg) :
 
   reader_.parse(std::vector<std::string>(arg + 3, arg + narg), "command line",
                 [this](const std::vector<std::string> &tok, std::size_t &i, const std::string &where) {
+                  if (tok[i] == "order") {
+                    parmec_order_ = reader_.choice(tok, i, where, {"lammps", "parmec"}) == 1;
+                    return true;
+                  }
                   return parse_torsion(tok, i, where);
                 });
   resolve();
@@ -223,6 +228,14 @@ void FixParmecTorsion::init()
       error->all(FLERR, cmd_ + ": torsion spring " + std::to_string(d.id) +
                             ": a critical damping ratio needs per-atom mass and radius (sphere inertia 0.4 m r^2)");
   check_record_count();
+  rigid_ = nullptr;
+  if (parmec_order_) {
+    const auto rigid = modify->get_fix_by_style("^parmec/rigid$");
+    if (rigid.empty())
+      error->all(FLERR, cmd_ + ": order parmec: needs fix parmec/rigid (the springs co-rotate with the rotations it "
+                               "keeps)");
+    rigid_ = rigid.front();
+  }
 }
 
 void FixParmecTorsion::setup(int)
@@ -253,6 +266,15 @@ void FixParmecTorsion::evaluate(Mode mode)
   local_rows(static_cast<int>(records_.total(nlocal)));
   int row = 0;
 
+  // 'order parmec': Parmec's stored rotation Λ (fix parmec/rigid, local and ghost atoms; with Q3 it is not
+  // orthogonal), otherwise the atom quaternion's
+  double **rot = rigid_ ? rigid_->array_atom : nullptr;
+  auto rotation_of = [&](int i) -> ts::Mat3 {
+    if (!rot) return rotation(quat[i]);
+    ts::Mat3 m;
+    std::copy(rot[i], rot[i] + 9, m.begin());
+    return m;
+  };
   auto inv_inertia = [&](int i) -> ts::Mat3 {
     const double J = (rmass && radius) ? 0.4 * rmass[i] * radius[i] * radius[i] : 0.0;
     const double inv = J > 0.0 ? 1.0 / J : 0.0;
@@ -274,16 +296,19 @@ void FixParmecTorsion::evaluate(Mode mode)
       } else if (mode == Mode::Setup && reader_.parmec_start) {
         apply = false;
       } else {
-        const ts::Mat3 L1 = rotation(quat[i]);
+        const ts::Mat3 L1 = rotation_of(i);
         ts::TorsionStepInput in;
         in.frame = ts::current_frame(d.body, L1);
         in.relative_omega = vec(omega[i]);
         if (k >= 0) in.relative_omega = in.relative_omega - vec(omega[k]);
         in.dt = dt;
-        if (d.law.needs_axis_inertia()) {
+        if (d.law.needs_axis_inertia() && rot) {  // Parmec's R (J1⁻¹ + J2⁻¹) Rᵀ
+          const ts::Mat3 J2 = k >= 0 ? inv_inertia(k) : ts::Mat3{};
+          in.axis_inertia = ts::axis_inertias_parmec(in.frame, inv_inertia(i), k >= 0 ? &J2 : nullptr);
+        } else if (d.law.needs_axis_inertia()) {
           const ts::Mat3 W1 = ts::spatial_inverse_inertia(L1, inv_inertia(i));
           if (k >= 0) {
-            const ts::Mat3 W2 = ts::spatial_inverse_inertia(rotation(quat[k]), inv_inertia(k));
+            const ts::Mat3 W2 = ts::spatial_inverse_inertia(rotation_of(k), inv_inertia(k));
             in.axis_inertia = ts::axis_inertias(in.frame, W1, &W2);
           } else {
             in.axis_inertia = ts::axis_inertias(in.frame, W1, nullptr);

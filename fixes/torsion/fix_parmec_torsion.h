@@ -58,6 +58,8 @@ class FixParmecTorsion : public state::PerAtomStateFix {
   std::vector<TorsionDef> defs_;
   std::vector<LawNames> names_;
   std::unordered_set<long> ids_;
+  bool parmec_order_ = false;        // 'order parmec': frames from fix parmec/rigid's stored Λ
+  LAMMPS_NS::Fix *rigid_ = nullptr;  // fix parmec/rigid: Λ per atom (local and ghost) as array_atom
 
 
   bool parse_torsion(const std::vector<std::string> &tok, std::size_t &i, const std::string &where);

@@ -230,9 +230,11 @@ def _torsion_cases():
 @pytest.mark.parametrize("name,spec,step,path,quirks", _torsion_cases(), ids=[c[0] for c in _torsion_cases()])
 def test_torsion_oracle_cases(tmp_path, name, spec, step, path, quirks):
     """Every torsion_spring_one case (unit cube) and analytic_torsion case (ANALYTICAL, I = 2), 0.5 s:
-    measured <= 1.2e-14 (angles, torques, spin) against upstream Parmec with --parmec-quirks and against the
-    Q1/Q3-fixed build by default, except the upstream three-axis cases 09/10: 2.4e-5 (with Q3 Parmec's
-    rotation is not orthogonal; the torsion fix takes the frame from the atom quaternion)."""
+    measured <= 3.4e-15 (angles, torques, spin) against upstream Parmec with --parmec-quirks and against the
+    Q1/Q3-fixed build by default, the three-axis cases 09/10 included: the torsion fix co-rotates its frames
+    with fix parmec/rigid's stored Λ ('order parmec'; with Q3 it is not orthogonal) and forms the critical
+    ratios' axis inertias with Parmec's R J⁻¹ Rᵀ (before: 2.4e-5 with the atom quaternion's Λ, 1.6e-7 with
+    the stored Λ and the corrected axis inertia)."""
     import json
     with gzip.open(path, "rt") as f:
         rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
@@ -242,8 +244,7 @@ def test_torsion_oracle_cases(tmp_path, name, spec, step, path, quirks):
     H = ns["H"]
     rows = rows[:len(H["TIME"])]
     err = compare(H, rows, columns=[c for c in rows[0] if c != "TIME"])
-    tol = 5e-5 if quirks and "xyz" in name else 5e-14
-    assert max(err.values()) <= tol, sorted(err.items(), key=lambda kv: -kv[1])[:4]
+    assert max(err.values()) <= 1e-14, sorted(err.items(), key=lambda kv: -kv[1])[:4]
 
 
 @pytest.mark.parametrize("case,body", [("analytic_ylim_cycle", "point"), ("spring_general", "cube")])

@@ -566,6 +566,9 @@ BAD = {
     "no_quaternions": (T + f"torsion 3 1 -1 {Z} kroll K", ["quaternions", "bpm/sphere"]),
     "no_ghost_velocity": (T + f"torsion 3 1 2 {Z} kroll K", ["comm_modify vel yes"]),
     "file_missing": ("file /nonexistent/x.torsion", ["file '/nonexistent/x.torsion' cannot be opened"]),
+    "order_parmec_without_rigid": (T + f"order parmec torsion 3 1 2 {Z} kroll K",
+                                   ["order parmec: needs fix parmec/rigid"]),
+    "order_unknown": (T + f"order parmek torsion 3 1 2 {Z} kroll K", ["order", "parmek"]),
 }
 
 

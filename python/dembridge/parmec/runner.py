@@ -139,7 +139,9 @@ class Runner:
             self.cmd(f"fix S all parmec/spring start parmec{order} inertia pmJ{' eqm parmec' if m.quirks else ''} "
                      f"file {self.write('springs.def', self._springs())}")
         if m.torsions:
-            self.cmd(f"fix T all parmec/torsion start parmec file {self.write('torsion.def', self._torsions())}")
+            # 'order parmec': the frames co-rotate with fix parmec/rigid's Λ (with Q3 not orthogonal, as Parmec's)
+            order = "" if critical_only else " order parmec"
+            self.cmd(f"fix T all parmec/torsion start parmec{order} file {self.write('torsion.def', self._torsions())}")
         if m.unsprings:
             self.cmd(f"fix U all parmec/unspring S file {self.write('unspring.def', self._unsprings())}")
         if critical_only:

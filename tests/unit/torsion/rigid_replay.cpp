@@ -65,15 +65,8 @@ void RigidReplay::step() {
       }
       in.axis_inertia = dt::axis_inertias(in.frame, w1, s.part2 >= 0 ? &w2 : nullptr);
       if (parmec_inertia_) {
-        Mat3 R, Ji = b1.J.inverse();
-        for (int i = 0; i < 3; ++i) {
-          R(i, 0) = in.frame.x[i];
-          R(i, 1) = in.frame.y[i];
-          R(i, 2) = in.frame.z[i];
-        }
-        if (s.part2 >= 0) Ji += bodies_[s.part2].J.inverse();
-        const Mat3 Mi = (R * Ji * R.transpose()).inverse();
-        in.axis_inertia = {Mi(0, 0), Mi(1, 1), Mi(2, 2)};
+        const dt::Mat3 j2 = s.part2 >= 0 ? to_rowmajor(bodies_[s.part2].J.inverse()) : dt::Mat3{};
+        in.axis_inertia = dt::axis_inertias_parmec(in.frame, to_rowmajor(b1.J.inverse()), s.part2 >= 0 ? &j2 : nullptr);
       }
     }
     s.last = dt::advance_torsion(s.law, s.state, in);

@@ -1,5 +1,8 @@
 #include "body_rotation.h"
 
+#include "equivalent_mass.h"
+
+#include <array>
 #include <cmath>
 
 namespace dembridge::rigid {
@@ -112,22 +115,10 @@ Mat3 inertia_from_list(const double *s)
 
 Mat3 parmec_inverse(const Mat3 &F)
 {
-  // column-major names of Parmec's INVERT macro: f[0..2] is the first column
-  const double f0 = F(0, 0), f1 = F(1, 0), f2 = F(2, 0), f3 = F(0, 1), f4 = F(1, 1), f5 = F(2, 1), f6 = F(0, 2),
-               f7 = F(1, 2), f8 = F(2, 2);
-  const double det = f0 * (f4 * f8 - f5 * f7) + f3 * (f2 * f7 - f1 * f8) + (f1 * f5 - f2 * f4) * f6;
-  const double d = 1.0 / det;
-  Mat3 I;
-  I(0, 0) = (f4 * f8 - f5 * f7) * d;
-  I(1, 0) = (f2 * f7 - f1 * f8) * d;
-  I(2, 0) = (f1 * f5 - f2 * f4) * d;
-  I(0, 1) = (f5 * f6 - f3 * f8) * d;
-  I(1, 1) = (f0 * f8 - f2 * f6) * d;
-  I(2, 1) = (f2 * f3 - f0 * f5) * d;
-  I(0, 2) = (f3 * f7 - f4 * f6) * d;
-  I(1, 2) = (f1 * f6 - f0 * f7) * d;
-  I(2, 2) = (f0 * f4 - f1 * f3) * d;
-  return I;
+  std::array<double, 9> rows;
+  Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(rows.data()) = F;
+  const std::array<double, 9> inv = springs::parmec_inverse(rows);
+  return Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(inv.data());
 }
 
 RotationStep rotation_step(const Mat3 &J, const Mat3 &Jinv, const Mat3 &L, const Vec3 &W, const Vec3 &torque,

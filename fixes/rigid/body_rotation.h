@@ -20,8 +20,8 @@ Mat3 expmap(const Vec3 &theta, bool q3_typo, bool float_taylor = false);
 // Symmetric inertia tensor from Parmec's list [Ixx, Iyy, Izz, Ixy, Ixz, Iyz].
 Mat3 inertia_from_list(const double *six);
 
-// Inverse by cofactors in Parmec's operation order (determinant expanded along the first column, cofactors
-// times 1/det), so that J⁻¹ and everything integrated with it agree bitwise with Parmec's.
+// Inverse by cofactors in Parmec's operation order (springs::parmec_inverse, equivalent_mass.h; shared with
+// fix parmec/spring's EQM), so that J⁻¹ and everything integrated with it agree bitwise with Parmec's.
 Mat3 parmec_inverse(const Mat3 &J);
 
 struct RotationStep {

@@ -29,7 +29,9 @@ double fused_sum(double a0, double b0, double a1, double b1, double a2, double b
   return dot_fused(Vec3{a0, a1, a2}, Vec3{b0, b1, b2});
 }
 
-Mat3 point_inverse_mass_fused(const BodyMass& b, const Vec3& P, EqmArm arm) {
+// ([A]×ᵀ J⁻¹) [A]× of one body, without the 1/m diagonal (eqm() adds it after summing the two bodies'
+// matrices: M⁻¹ = (M1 + 1/m1) + M2, then + 1/m2).
+Mat3 rotational_inverse_mass_fused(const BodyMass& b, const Vec3& P, EqmArm arm) {
   const Vec3 point = arm == EqmArm::ParmecQ8 ? P - b.centre : P;
   const Vec3 A = b.centre - point;
   const Mat3 S = skew(A);
@@ -39,9 +41,12 @@ Mat3 point_inverse_mass_fused(const BodyMass& b, const Vec3& P, EqmArm arm) {
     for (int j = 0; j < 3; ++j) T(i, j) = fused_sum(S(0, i), Jinv(0, j), S(1, i), Jinv(1, j), S(2, i), Jinv(2, j));
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) M(i, j) = fused_sum(T(i, 0), S(0, j), T(i, 1), S(1, j), T(i, 2), S(2, j));
+  return M;
+}
+
+void add_inverse_mass(Mat3& M, const BodyMass& b) {
   const double im = 1.0 / b.mass;
   for (int i = 0; i < 3; ++i) M(i, i) += im;
-  return M;
 }
 
 }  // namespace
@@ -54,6 +59,25 @@ BodyMass BodyMass::isotropic(double mass, double inertia, const Vec3& centre) {
   return b;
 }
 
+BodyMass BodyMass::from_inertia_list(double mass, const double* six, const Vec3& centre) {
+  BodyMass b;
+  b.mass = mass;
+  b.inv_inertia = parmec_inverse({six[0], six[3], six[4], six[3], six[1], six[5], six[4], six[5], six[2]});
+  b.centre = centre;
+  return b;
+}
+
+std::array<double, 9> parmec_inverse(const std::array<double, 9>& J) {
+  // Parmec's column-major names: f[0..2] is the first column
+  const double f0 = J[0], f1 = J[3], f2 = J[6], f3 = J[1], f4 = J[4], f5 = J[7], f6 = J[2], f7 = J[5], f8 = J[8];
+  const double det = f0 * (f4 * f8 - f5 * f7) + f3 * (f2 * f7 - f1 * f8) + (f1 * f5 - f2 * f4) * f6;
+  const double d = 1.0 / det;
+  // row-major out: I(r, c) = out[3 r + c]
+  return {(f4 * f8 - f5 * f7) * d, (f5 * f6 - f3 * f8) * d, (f3 * f7 - f4 * f6) * d,
+          (f2 * f7 - f1 * f8) * d, (f0 * f8 - f2 * f6) * d, (f1 * f6 - f0 * f7) * d,
+          (f1 * f5 - f2 * f4) * d, (f2 * f3 - f0 * f5) * d, (f0 * f4 - f1 * f3) * d};
+}
+
 std::array<double, 9> point_inverse_mass(const BodyMass& body, const Vec3& P, EqmArm arm) {
   const Mat3 m = point_inverse_mass_matrix(body, P, arm);
   std::array<double, 9> out;
@@ -64,8 +88,18 @@ std::array<double, 9> point_inverse_mass(const BodyMass& body, const Vec3& P, Eq
 
 double equivalent_mass(const BodyMass& body1, const Vec3& P1, const BodyMass* body2, const Vec3& P2, const Vec3& d,
                        EqmArm arm, bool fused) {
-  Mat3 Minv = fused ? point_inverse_mass_fused(body1, P1, arm) : point_inverse_mass_matrix(body1, P1, arm);
-  if (body2) Minv += fused ? point_inverse_mass_fused(*body2, P2, arm) : point_inverse_mass_matrix(*body2, P2, arm);
+  Mat3 Minv;
+  if (fused) {  // eqm()'s order: ((M1 + 1/m1) + M2) + 1/m2
+    Minv = rotational_inverse_mass_fused(body1, P1, arm);
+    add_inverse_mass(Minv, body1);
+    if (body2) {
+      Minv += rotational_inverse_mass_fused(*body2, P2, arm);
+      add_inverse_mass(Minv, *body2);
+    }
+  } else {
+    Minv = point_inverse_mass_matrix(body1, P1, arm);
+    if (body2) Minv += point_inverse_mass_matrix(*body2, P2, arm);
+  }
   double lambda;
   if (fused && (d[0] != 0.0 || d[1] != 0.0 || d[2] != 0.0)) {  // NVMUL then DOT, contracted
     Vec3 t;

@@ -482,6 +482,7 @@ void FixParmecSpring::evaluate(Mode mode)
   ctx.mass = atom->mass;
   ctx.type = atom->type;
   ctx.radius = atom->radius_flag ? atom->radius : nullptr;
+  ctx.inertia = inertia_array();
   ctx.tag = atom->tag;
   ctx.nall = nlocal + atom->nghost;
   ctx.periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
@@ -1036,29 +1037,36 @@ void FixParmecSpring::restart(char *buf)
   });
 }
 
+double **FixParmecSpring::inertia_array() const
+{
+  if (inertia_name_.empty()) return nullptr;
+  int flag = 0, cols = 0;
+  const int ij = atom->find_custom(inertia_name_.c_str(), flag, cols);
+  if (ij < 0 || flag != 1 || cols != 6)
+    error->all(FLERR, cmd_ + ": inertia: '" + inertia_name_ + "' is not a per-atom array of 6 doubles (fix "
+                              "property/atom d2_" + inertia_name_ + " 6 ghost yes)");
+  return atom->darray[ij];
+}
+
 std::array<double, 9> FixParmecSpring::critical_inertia(int i, double mass) const
 {
-  if (!inertia_name_.empty()) {
-    int flag = 0, cols = 0;
-    const int ij = atom->find_custom(inertia_name_.c_str(), flag, cols);
-    if (ij < 0 || flag != 1 || cols != 6)
-      error->all(FLERR, cmd_ + ": inertia: '" + inertia_name_ + "' is not a per-atom array of 6 doubles (fix "
-                                "property/atom d2_" + inertia_name_ + " 6 ghost yes)");
-    const double *r = atom->darray[ij][i];
+  if (double **J = inertia_array()) {
+    const double *r = J[i];
     return {r[0], r[3], r[4], r[3], r[1], r[5], r[4], r[5], r[2]};
   }
   const double J = atom->radius_flag ? 0.4 * mass * atom->radius[i] * atom->radius[i] : 0.0;
   return {J, 0, 0, 0, J, 0, 0, 0, J};
 }
 
-// EQM (spec §12) of spring d along dir (zero: largest point mass) with the sphere inertia 0.4 m r^2
-// of its atoms i (part1) and k (part2, or -1). q8_arm_: Parmec's spring-force arm 2X - P (quirk Q8).
+// EQM (spec §12) of spring d along dir (zero: largest point mass) of its atoms i (part1) and k (part2, or
+// -1): with their inertia tensors ('inertia NAME', Parmec's J⁻¹ as eqm() uses it), else the sphere inertia
+// 0.4 m r^2. q8_arm_: Parmec's spring-force arm 2X - P (quirk Q8).
 // Inline: the isotropic branch runs for every spring every step; the general one is out of line.
 inline double FixParmecSpring::spring_eqm(const EvalContext &c, const SpringDef &d, int i, int k, const sp::Vec3 &dir) const
 {
   if (!c.rmass && !c.mass) return NAN;  // no masses: EQM undefined (a ratio dashpot is an ERROR in init)
   auto mass_of = [&](int j) { return c.rmass ? c.rmass[j] : c.mass[c.type[j]]; };
-  if (!q8_arm_ && !zero(dir)) {
+  if (!q8_arm_ && !zero(dir) && !c.inertia) {
     // isotropic inertia: d^T M^-1 d = |d|^2/m + (|A|^2 |d|^2 - (A.d)^2)/J per body (the kernel's
     // equivalent_mass without the 3x3 matrices; equal to round-off)
     const double dd = sp::dot(dir, dir);
@@ -1082,11 +1090,14 @@ inline double FixParmecSpring::spring_eqm(const EvalContext &c, const SpringDef 
 }
 
 // EQM with the full 3x3 inverse inertia (zero direction: largest point mass; 'eqm parmec': Q8 arm).
+// The tensor is referential, as in Parmec's eqm() (its arms and J⁻¹ are the reference ones).
 double FixParmecSpring::spring_eqm_general(const EvalContext &c, const SpringDef &d, int i, int k,
                                            const sp::Vec3 &dir) const
 {
   auto mass_of = [&](int j) { return c.rmass ? c.rmass[j] : c.mass[c.type[j]]; };
   auto body = [&](int j, const sp::Vec3 &X) {
+    if (c.inertia && c.inertia[j][0] > 0.0)  // (an atom without a tensor: the sphere's, as CRITICAL)
+      return sp::BodyMass::from_inertia_list(mass_of(j), c.inertia[j], q8_arm_ ? X : sp::Vec3{});
     sp::BodyMass b;
     b.mass = mass_of(j);
     const double J = c.radius ? 0.4 * b.mass * c.radius[j] * c.radius[j] : 0.0;
@@ -1182,6 +1193,11 @@ bool FixParmecSpring::set_state_code(int spring, int code)
   st.unpack(slot + 1);
   st.code = code;
   st.pack(slot + 1);
+  // The output row of this step reports the state at the end of the step, as Parmec's HISTORY 'SS' row
+  // does: UNSPRING fires after the forces, and its row already shows the new code.
+  const double id = static_cast<double>(defs_[spring].id);
+  for (int r = 0; r < size_local_rows; r++)
+    if (array_local[r][0] == id) array_local[r][6] = code;
   return true;
 }
 

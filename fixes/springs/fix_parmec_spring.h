@@ -66,7 +66,8 @@ class FixParmecSpring : public state::PerAtomStateFix {
   void gather_entity(Entity e, std::vector<double> &out);
   // Set the state code (SS) of a spring on the rank that owns it (no-op on the others, returns whether
   // it was set here): -3 regular, -2 UNSPRING-managed, -1 zero force, >= 0 unloaded with the curve
-  // registered for that code by set_unspring_unload(). Takes effect at the next step.
+  // registered for that code by set_unspring_unload(). Takes effect at the next step; the SS column of
+  // this step's output row shows it at once (the state at the end of the step, as Parmec reports it).
   bool set_state_code(int spring, int code);
   // Register the UNSPRING unload curve (strictly increasing, starting at 0) for state code >= 0. The
   // table is owned by the caller and must outlive the fix. A code without a curve removes the spring
@@ -125,6 +126,7 @@ class FixParmecSpring : public state::PerAtomStateFix {
     double **omega = nullptr, **quat = nullptr;
     double **rot = nullptr;  // 'order parmec': Λ row-major per atom (fix parmec/rigid)
     const double *rmass = nullptr, *mass = nullptr, *radius = nullptr;
+    double **inertia = nullptr;  // 'inertia NAME': d2_NAME per atom (local and ghost), else the sphere's
     const int *type = nullptr;
     const LAMMPS_NS::tagint *tag = nullptr;
     int nall = 0;           // local + ghost atoms
@@ -192,9 +194,10 @@ class FixParmecSpring : public state::PerAtomStateFix {
   void evaluate(Mode mode) override;
   void history_values(const double *rec, double *out) const override;
   void critical();
-  // CRITICAL's body inertia: the referential tensor of atom i from 'inertia NAME' (d2_NAME: Ixx Iyy Izz Ixy
-  // Ixz Iyz), else the sphere's 0.4 m r^2 (the force kernel's EQM keeps the sphere inertia)
+  // The body inertia of CRITICAL and of the ratio dashpots' EQM: the referential tensor of atom i from
+  // 'inertia NAME' (d2_NAME: Ixx Iyy Izz Ixy Ixz Iyz), else the sphere's 0.4 m r^2
   std::array<double, 9> critical_inertia(int i, double mass) const;
+  double **inertia_array() const;  // d2_NAME's per-atom rows (ERROR if it is not 6 doubles), nullptr without
   std::string inertia_name_;
   double crit_[2] = {0.0, 0.0};
   std::vector<double> crit_table_;  // 3 per row, see compute_array

@@ -427,6 +427,55 @@ def test_chain_one_vs_two_ranks(tmp_path):
     assert [float(v) for v in hist[-1][1 + 6 * 1:7 + 6 * 1]] == l1[7][:6]
 
 
+def tensor_eqm_deck(tmp, inertia):
+    """Two bodies, atoms 1 at x = 0 and 2 at x = 3 (the box splits there on 2 ranks: part2 is a ghost of
+    part1's owner), each with its own full inertia tensor (d2_J: Ixx Iyy Izz Ixy Ixz Iyz), tied by a spring
+    with a critical damping ratio between off-centre points, constant direction d; one step; the local output's
+    EQM column (f_S[8])."""
+    return ["units si", "atom_style bpm/sphere", "boundary f f f", "atom_modify map array",
+            "comm_modify vel yes cutoff 5", "processors * 1 1", "region box block -3 6 -3 3 -3 3",
+            "create_box 1 box", "create_atoms 1 single 0 0 0 units box", "create_atoms 1 single 3 0 0 units box",
+            "set group all diameter 0.5", "set atom 1 mass 4000", "set atom 2 mass 1500",
+            "fix J all property/atom d2_J 6 ghost yes",
+            "set atom 1 d2_J[1] 5666.7 d2_J[2] 4000 d2_J[3] 2000 d2_J[4] 300 d2_J[5] -200 d2_J[6] 150",
+            "set atom 2 d2_J[1] 900 d2_J[2] 1300 d2_J[3] 700 d2_J[4] -100 d2_J[5] 50 d2_J[6] 80",
+            "fix S all parmec/spring table K -1 -1e6 1 1e6 "
+            f"spring 1 1 0.5 0.5 2 2 2.5 -0.5 1 K ratio 0.3 direction 0.6 0 0.8{inertia}",
+            "fix I all nve/bpm/sphere", "timestep 1e-4",
+            f"dump L all local 1 {tmp}/loc.dump f_S[1] f_S[8]", "dump_modify L format float %.17g", "run 1"]
+
+
+def test_ratio_dashpot_eqm_uses_the_inertia_tensors(tmp_path):
+    """With 'inertia J' the equivalent mass of a ratio dashpot (spec §12) uses each body's tensor, on part2 also
+    as a ghost atom (2 ranks): m_eq = 1 / (d^T (sum_b I/m_b + [A_b]x^T J_b^-1 [A_b]x) d), A = X - P, against NumPy
+    to 1e-12, the same on 1 and 2 ranks; without it the sphere inertia 0.4 m r^2 gives a mass 3 orders off."""
+    import numpy as np
+
+    def skew(a):
+        return np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+
+    def tensor(six):
+        xx, yy, zz, xy, xz, yz = six
+        return np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+
+    bodies = [(4000.0, tensor([5666.7, 4000, 2000, 300, -200, 150]), np.array([0.0, 0, 0]), np.array([0.5, 0.5, 2])),
+              (1500.0, tensor([900, 1300, 700, -100, 50, 80]), np.array([3.0, 0, 0]), np.array([2.5, -0.5, 1]))]
+    d = np.array([0.6, 0, 0.8])
+    Minv = sum(np.eye(3) / m + skew(X - P).T @ np.linalg.inv(J) @ skew(X - P) for m, J, X, P in bodies)
+    want = 1.0 / (d @ Minv @ d)
+    got = {}
+    for np_, inertia in ((1, " inertia J"), (2, " inertia J"), (1, "")):
+        run = tmp_path / f"np{np_}{'tensor' if inertia else 'sphere'}"
+        run.mkdir()
+        run_lmp(run, tensor_eqm_deck(run, inertia), np_)
+        got[(np_, inertia)] = last(run / "loc.dump")[0][1]
+    print(f"[agreement] ratio-dashpot EQM with the tensors: {got[(1, ' inertia J')]!r} vs NumPy {want!r}; "
+          f"sphere inertia {got[(1, '')]!r}")
+    assert abs(got[(1, " inertia J")] - want) <= 1e-12 * want
+    assert got[(2, " inertia J")] == got[(1, " inertia J")]
+    assert abs(got[(1, "")] - want) > 0.5 * want
+
+
 def hub_deck(tmp, steps, n=70):
     """A hub atom with n > 64 springs (beyond the ordered-sum limit: plain sums) to atoms on a circle."""
     lines = ["units si", "atom_style sphere", "boundary f f f", "atom_modify map array",

@@ -620,7 +620,8 @@ def test_unspring_trigger_unload_and_activate(tmp_path, nfreq, nsteps):
     """Trigger at the nfreq-th tested step (kernel step = LAMMPS step - 1, tested when divisible by nsteps)
     whose SF exceeds 20.2; from the next step spring 1 has SS = 3 (the TSERIES ID, Q7) and unloads along
     the curve (F -= slope * d stroke, slope 2000) to zero, then SS = -1 with F = 0 for good; spring 2 is
-    activated (-1 -> -3) at the trigger (Q15) and carries k2 * stroke."""
+    activated (-1 -> -3) at the trigger (Q15) and carries k2 * stroke. The trigger step's row already shows
+    the new states (SS at the end of the step, as Parmec reports it)."""
     u, vec = unspring_run(tmp_path, f"rule tsprings 1 msprings 1 limits None 20.2 entity SF nfreq {nfreq} "
                                     f"nsteps {nsteps} unload 3 activate 2")
     fails, trigger = 0, None
@@ -631,8 +632,11 @@ def test_unspring_trigger_unload_and_activate(tmp_path, nfreq, nsteps):
                 trigger = m
                 break
     assert trigger is not None
-    for m in range(1, trigger + 1):
+    for m in range(1, trigger):
         assert u[m][1][2] == -2 and u[m][2][2] == -1 and u[m][2][1] == 0.0, m
+    # the trigger step's row: forces of the old states, SS of the new ones (the state at the end of the step,
+    # as Parmec's HISTORY row)
+    assert u[trigger][1][2] == 3 and u[trigger][2][2] == -3 and u[trigger][2][1] == 0.0
     f, m, zero_at = u[trigger][1][1], trigger + 1, None
     while u[m][1][2] == 3:
         expect = f - 2000.0 * (u[m][1][0] - u[m - 1][1][0])

@@ -101,7 +101,7 @@ class Runner:
         for i, p in enumerate(P):
             x = p.centre
             self.cmd(f"create_atoms 1 single {_r(x[0])} {_r(x[1])} {_r(x[2])} units box")
-        self.cmd("fix PJ all property/atom d2_pmJ 6 ghost yes")  # ghost: CRITICAL's EQM of part2
+        self.cmd("fix PJ all property/atom d2_pmJ 6 ghost yes")  # ghost: the EQM of part2 (CRITICAL, ratio dashpots)
         if contact:
             # spheres touch by colour (0: no contact shape, MESH/ANALYTICAL); a pair cutoff sizes the neighbour lists
             self.cmd("fix PC all property/atom i_pmcolor ghost yes")

@@ -902,12 +902,7 @@ void FixParmecSpring::critical()
     }
     const double det = J[0] * (J[4] * J[8] - J[5] * J[7]) - J[1] * (J[3] * J[8] - J[5] * J[6]) +
                        J[2] * (J[3] * J[7] - J[4] * J[6]);
-    if (det > 0.0) {
-      const double r = 1.0 / det;
-      b.inv_inertia = {r * (J[4] * J[8] - J[5] * J[7]), r * (J[2] * J[7] - J[1] * J[8]), r * (J[1] * J[5] - J[2] * J[4]),
-                       r * (J[5] * J[6] - J[3] * J[8]), r * (J[0] * J[8] - J[2] * J[6]), r * (J[2] * J[3] - J[0] * J[5]),
-                       r * (J[3] * J[7] - J[4] * J[6]), r * (J[1] * J[6] - J[0] * J[7]), r * (J[0] * J[4] - J[1] * J[3])};
-    }
+    if (det > 0.0) b.inv_inertia = sp::parmec_inverse(J);  // as Parmec's critical_perspring (its eqm's J⁻¹)
     return b;
   };
   sync_records();

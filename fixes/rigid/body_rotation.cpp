@@ -78,6 +78,36 @@ Vec3 cross_fused(const Vec3 &a, const Vec3 &b)
 }
 }  // namespace
 
+Mat3 macro_mul(const Mat3 &A, const Mat3 &B)
+{
+  Mat3 C;
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) C(i, j) = A(i, 0) * B(0, j) + A(i, 1) * B(1, j) + A(i, 2) * B(2, j);
+  return C;
+}
+
+Mat3 macro_mul_t(const Mat3 &A, const Mat3 &B)
+{
+  Mat3 C;
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) C(i, j) = A(i, 0) * B(j, 0) + A(i, 1) * B(j, 1) + A(i, 2) * B(j, 2);
+  return C;
+}
+
+Vec3 macro_mv(const Mat3 &A, const Vec3 &b)
+{
+  Vec3 r;
+  for (int i = 0; i < 3; i++) r[i] = A(i, 0) * b[0] + A(i, 1) * b[1] + A(i, 2) * b[2];
+  return r;
+}
+
+Vec3 macro_tmv(const Mat3 &A, const Vec3 &b)
+{
+  Vec3 r;
+  for (int i = 0; i < 3; i++) r[i] = A(0, i) * b[0] + A(1, i) * b[1] + A(2, i) * b[2];
+  return r;
+}
+
 Mat3 expmap(const Vec3 &theta, bool q3_typo, bool float_taylor)
 {
   const double o1 = theta[0], o2 = theta[1], o3 = theta[2];
@@ -139,14 +169,15 @@ RotationStep rotation_step(const Mat3 &J, const Mat3 &Jinv, const Mat3 &L, const
     out.w = mul_fused(out.L, out.W);
     return out;
   }
-  const Vec3 T = L.transpose() * torque;
-  const Vec3 B = expmap(-0.5 * h * W, q3_typo, float_taylor) * (J * W) + 0.5 * h * T;
-  const Vec3 A = Jinv * B;
-  const Vec3 dO = Jinv * (h * (T - A.cross(J * A)));
+  // joints.cpp's free step (C++, macro order)
+  const Vec3 T = macro_tmv(L, torque);
+  const Vec3 B = macro_mv(expmap(-0.5 * h * W, q3_typo, float_taylor), macro_mv(J, W)) + 0.5 * h * T;
+  const Vec3 A = macro_mv(Jinv, B);
+  const Vec3 dO = macro_mv(Jinv, h * (T - A.cross(macro_mv(J, A))));
   RotationStep out;
   out.W = W + dO;
-  out.L = L * expmap(h * out.W, q3_typo, float_taylor);
-  out.w = out.L * out.W;
+  out.L = macro_mul(L, expmap(h * out.W, q3_typo, float_taylor));
+  out.w = macro_mv(out.L, out.W);
   return out;
 }
 

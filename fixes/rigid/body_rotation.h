@@ -17,6 +17,14 @@ using Vec3 = Eigen::Vector3d;
 // 1 − c s, one rounding each). Dynamics and the initial half step use them, the C++ joint solver does not.
 Mat3 expmap(const Vec3 &theta, bool q3_typo, bool float_taylor = false);
 
+// Products with the sums of Parmec's C++ macros (NNMUL, NTMUL, NVMUL, TVMUL of macros.h): k = 0, 1, 2 from the
+// left, unfused. Eigen's fixed-size products do not keep that order (the third row of a 3x3 product is
+// a0 b0 + (a1 b1 + a2 b2)), so the C++ parts of Parmec (joints.cpp) are reproduced with these.
+Mat3 macro_mul(const Mat3 &A, const Mat3 &B);    // A B
+Mat3 macro_mul_t(const Mat3 &A, const Mat3 &B);  // A Bᵀ
+Vec3 macro_mv(const Mat3 &A, const Vec3 &b);     // A b
+Vec3 macro_tmv(const Mat3 &A, const Vec3 &b);    // Aᵀ b
+
 // Symmetric inertia tensor from Parmec's list [Ixx, Iyy, Izz, Ixy, Ixz, Iyz].
 Mat3 inertia_from_list(const double *six);
 

@@ -653,7 +653,7 @@ void FixParmecRigid::apply_joints(std::vector<Vec3> &F0, std::vector<Vec3> &T0, 
         if ((e == 0 ? d.body1 : d.body2) != it->second) continue;
         const Vec3 R = (e == 0 ? 1.0 : -1.0) * reactions_[j];
         F0[i] += R;
-        T0[i] += (L * arms_[2 * j + e]).cross(R);
+        T0[i] += rigid::macro_mv(L, arms_[2 * j + e]).cross(R);  // joints.cpp: NVMUL, then R × a
       }
     }
   }

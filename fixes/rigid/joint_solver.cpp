@@ -21,7 +21,8 @@ Mat3 skew(const Vec3 &a)
 }
 }  // namespace
 
-Mat3 JointClusters::point_operator(const Mat3 &L, const Vec3 &arm) { return -L * skew(arm); }
+// H = Λ [X − P]× as joints.cpp forms it (NNMUL), with the body-frame arm b = P − X
+Mat3 JointClusters::point_operator(const Mat3 &L, const Vec3 &arm) { return macro_mul(L, skew(-arm)); }
 
 JointClusters::JointClusters(int nbodies, std::vector<JointDef> joints) : joints_(std::move(joints))
 {
@@ -93,23 +94,23 @@ std::vector<Vec3> JointClusters::solve(const std::vector<BodyKinematics> &B, dou
         if (b < 0) continue;
         const BodyKinematics &K = B[b];
         const Mat3 Hi = point_operator(K.L, e == 0 ? d.arm1 : d.arm2);
-        const Mat3 C = K.inv_inertia * Hi.transpose();
-        const Mat3 D = Hi * C;
+        const Mat3 C = macro_mul_t(K.inv_inertia, Hi);
+        const Mat3 D = macro_mul(Hi, C);
         Wii = Wii + D;
         for (int a = 0; a < 3; a++) Wii(a, a) += K.inv_mass;
         for (int j : joints_of[b]) {
           if (j == i) continue;
           const JointDef &dj = joints_[j];
           const Mat3 Hj = point_operator(K.L, dj.body1 == b ? dj.arm1 : dj.arm2);
-          const Mat3 Cj = K.inv_inertia * Hj.transpose();
-          Mat3 Wij = Hi * Cj;
+          const Mat3 Cj = macro_mul_t(K.inv_inertia, Hj);
+          Mat3 Wij = macro_mul(Hi, Cj);
           for (int a = 0; a < 3; a++) Wij(a, a) += K.inv_mass;
           if ((b == d.body1 && b == dj.body2) || (b == d.body2 && b == dj.body1)) Wij = -Wij;
           put(i0, row_of[j], Wij, q16);
         }
         // right-hand side −(U_rel(t_n) + U_rel,free(t_n+1)), part 1 subtracted, part 2 added
-        const Vec3 V = Hi * K.W + K.v;
-        const Vec3 Cf = (Hi * K.W_free + K.v_free) + K.kick;
+        const Vec3 V = macro_mv(Hi, K.W) + K.v;
+        const Vec3 Cf = (macro_mv(Hi, K.W_free) + K.v_free) + K.kick;
         if (e == 0)
           Bi = Bi - (V + Cf);
         else

@@ -4,6 +4,7 @@
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <poll.h>
+#include <sys/time.h>
 #include <sys/socket.h>
 #include <sys/uio.h>
 #include <sys/un.h>
@@ -85,10 +86,15 @@ std::string Endpoint::describe() const {
 }
 
 SocketTransport::SocketTransport(int fd, bool tcp, std::string description)
-    : fd_(fd), tcp_(tcp), description_(std::move(description)) {}
+    : fd_(fd), tcp_(tcp), description_(std::move(description)) {
+  // A blocking descriptor, so that a message's first recv can wait in the kernel (bounded by
+  // SO_RCVTIMEO, see read_message); every other call passes MSG_DONTWAIT and waits in poll().
+  const int flags = fd_ >= 0 ? ::fcntl(fd_, F_GETFL) : -1;
+  if (flags >= 0 && (flags & O_NONBLOCK)) ::fcntl(fd_, F_SETFL, flags & ~O_NONBLOCK);
+}
 
 SocketTransport::SocketTransport(SocketTransport&& o) noexcept
-    : fd_(o.fd_), tcp_(o.tcp_), description_(std::move(o.description_)) {
+    : fd_(o.fd_), tcp_(o.tcp_), description_(std::move(o.description_)), recv_timeout_s_(o.recv_timeout_s_) {
   o.fd_ = -1;
 }
 
@@ -98,6 +104,7 @@ SocketTransport& SocketTransport::operator=(SocketTransport&& o) noexcept {
     fd_ = o.fd_;
     tcp_ = o.tcp_;
     description_ = std::move(o.description_);
+    recv_timeout_s_ = o.recv_timeout_s_;
     o.fd_ = -1;
   }
   return *this;
@@ -199,12 +206,27 @@ void SocketTransport::read_exact(void* buffer, std::size_t n, double timeout_s, 
   std::size_t got = 0;
   while (got < n) {
     quick_ack();
-    const ssize_t rc = ::recv(fd_, p + got, n - got, 0);
+    const ssize_t rc = ::recv(fd_, p + got, n - got, MSG_DONTWAIT);
     if (rc > 0)
       got += static_cast<std::size_t>(rc);
     else
       io_failed(rc, errno, POLLIN, deadline, timeout_s, what, got, n);
   }
+}
+
+bool SocketTransport::set_receive_timeout(double timeout_s) {
+  if (timeout_s == 0.0) return false;  // SO_RCVTIMEO 0 would mean "forever"
+  if (timeout_s == recv_timeout_s_) return true;
+  timeval tv{0, 0};  // < 0: wait forever (0 in SO_RCVTIMEO)
+  if (timeout_s > 0.0) {
+    const double s = std::min(timeout_s, 1e9);
+    tv.tv_sec = static_cast<time_t>(s);
+    tv.tv_usec = static_cast<suseconds_t>(1e6 * (s - static_cast<double>(tv.tv_sec)));
+    if (tv.tv_sec == 0 && tv.tv_usec == 0) tv.tv_usec = 1;
+  }
+  if (::setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv) != 0) return false;
+  recv_timeout_s_ = timeout_s;
+  return true;
 }
 
 void SocketTransport::read_message(std::uint8_t& cmd, void* payload, std::size_t n,
@@ -213,21 +235,33 @@ void SocketTransport::read_message(std::uint8_t& cmd, void* payload, std::size_t
   if (fd_ < 0) throw PeerClosedError("reading " + what_command + ": the connection to MBDyn is closed");
   const Deadline deadline(timeout_s);
   auto* p = static_cast<std::uint8_t*>(payload);
+  iovec v[2] = {{&cmd, 1}, {p, n}};
+  msghdr m{};
+  m.msg_iov = v;
+  m.msg_iovlen = 2;
+  // Fast path, one system call: a recvmsg for command and payload that blocks in the kernel, bounded
+  // by SO_RCVTIMEO = the whole message's timeout (spec P4), instead of poll + recv (+ TCP_QUICKACK).
+  // MBDyn's message usually arrives whole (or is already there). Without a quick ack first, a split
+  // write (MBDyn's command byte, its payload held back by Nagle until our ACK, spec P3) returns the
+  // byte at once, and the loop below acks before it waits for the rest.
+  ssize_t rc = ::recvmsg(fd_, &m, set_receive_timeout(timeout_s) ? 0 : MSG_DONTWAIT);
   std::size_t got = 0;  // payload bytes, once the command byte is in
   bool have_cmd = false;
+  if (rc > 0) {
+    have_cmd = true;
+    got = static_cast<std::size_t>(rc) - 1;
+    if (!payload_follows(cmd) || got == n) return;
+  } else if (rc == 0 || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
+    io_failed(rc, errno, POLLIN, deadline, timeout_s, what_command, 0, 1);  // throws
+  }
   while (!have_cmd || got < n) {
     quick_ack();
     if (have_cmd)
       wait_ready(POLLIN, deadline, timeout_s, what_payload, got, n);
     else
       wait_ready(POLLIN, deadline, timeout_s, what_command, 0, 1);
-    ssize_t rc;
     if (!have_cmd) {
-      iovec v[2] = {{&cmd, 1}, {p, n}};
-      msghdr m{};
-      m.msg_iov = v;
-      m.msg_iovlen = 2;
-      rc = ::recvmsg(fd_, &m, 0);
+      rc = ::recvmsg(fd_, &m, MSG_DONTWAIT);
       if (rc > 0) {
         have_cmd = true;
         got = static_cast<std::size_t>(rc) - 1;
@@ -235,7 +269,7 @@ void SocketTransport::read_message(std::uint8_t& cmd, void* payload, std::size_t
         continue;
       }
     } else {
-      rc = ::recv(fd_, p + got, n - got, 0);
+      rc = ::recv(fd_, p + got, n - got, MSG_DONTWAIT);
       if (rc > 0) {
         got += static_cast<std::size_t>(rc);
         continue;
@@ -256,7 +290,7 @@ void SocketTransport::write_all(const void* buffer, std::size_t n, double timeou
   std::size_t sent = 0;
   while (sent < n) {
     // MSG_NOSIGNAL: a dead MBDyn must give an error, not kill LAMMPS with SIGPIPE.
-    const ssize_t rc = ::send(fd_, p + sent, n - sent, MSG_NOSIGNAL);
+    const ssize_t rc = ::send(fd_, p + sent, n - sent, MSG_NOSIGNAL | MSG_DONTWAIT);
     if (rc >= 0) {
       sent += static_cast<std::size_t>(rc);
       continue;

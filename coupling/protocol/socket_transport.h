@@ -1,6 +1,7 @@
 // Byte transport to MBDyn over a stream socket (spec §1): AF_UNIX path or TCP. Every blocking
-// call waits in poll() with a deadline (spec P4); reads are exact-length (P1); a message goes
-// out in one send() (P2); TCP gets TCP_NODELAY and TCP_QUICKACK before every recv (P3).
+// call has a deadline (spec P4): a message's first recv waits in the kernel under SO_RCVTIMEO,
+// everything else in poll(); reads are exact-length (P1); a message goes out in one send() (P2);
+// TCP gets TCP_NODELAY, and TCP_QUICKACK before every wait for the rest of a message (P3).
 #pragma once
 
 #include <cstddef>
@@ -42,11 +43,11 @@ class SocketTransport {
   // ("kinematics payload"); throws TimeoutError or PeerClosedError stating bytes received.
   void read_exact(void* buffer, std::size_t n, double timeout_s, const std::string& what);
   // Reads one message: its command byte into cmd and, when payload_follows(cmd), exactly n more
-  // bytes into payload, with as few recv calls as the data allows (both in one recvmsg when they
-  // have arrived together). Waits in poll() before each recv, since MBDyn's next message usually
-  // is not there yet. A command without payload ends the read: bytes after it are dropped (MBDyn
-  // sends nothing after 5, and any other such byte is a protocol error). Errors as read_exact,
-  // naming what_command or what_payload.
+  // bytes into payload. A whole message costs one system call: a recvmsg of both that blocks
+  // until data arrives (SO_RCVTIMEO = timeout_s). Only a partial message (MBDyn's split writes on
+  // TCP) goes on with TCP_QUICKACK, poll() and recv. A command without payload ends the read: bytes
+  // after it are dropped (MBDyn sends nothing after 5, and any other such byte is a protocol
+  // error). Errors as read_exact, naming what_command or what_payload.
   void read_message(std::uint8_t& cmd, void* payload, std::size_t n, bool (*payload_follows)(std::uint8_t),
                     double timeout_s, const std::string& what_command, const std::string& what_payload);
   // Writes n bytes with a single send() when the kernel takes them (always for small messages);
@@ -72,9 +73,13 @@ class SocketTransport {
   void io_failed(long rc, int err, short events, const Deadline& deadline, double timeout_s, const std::string& what,
                  std::size_t done, std::size_t n);
   void quick_ack();
+  // Sets SO_RCVTIMEO to timeout_s (< 0: forever) unless it is set already; false when a blocking
+  // recv cannot honour the timeout (0 s), so the caller must not block.
+  bool set_receive_timeout(double timeout_s);
   int fd_ = -1;
   bool tcp_ = false;
   std::string description_;
+  double recv_timeout_s_ = 0.0;  // SO_RCVTIMEO as last set; 0: not set
 };
 
 // MBDyn `create, no`: the peer listens and MBDyn connects while it parses its input (spec §1).

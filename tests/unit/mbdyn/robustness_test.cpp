@@ -4,7 +4,10 @@
 #include <sys/socket.h>
 
 #include <chrono>
+#include <cstring>
+#include <thread>
 #include <typeinfo>
+#include <utility>
 
 #include "protocol_error.h"
 #include "test_support.h"
@@ -206,4 +209,54 @@ TEST(Robustness, MbdynAbortsMidRunIsANormalEnd) {
   const auto out = peer.join();
   EXPECT_EQ(out.exit_status, 1);
   EXPECT_TRUE(contains(out.log, "Max iterations number 4")) << out.log;
+}
+
+namespace {
+bool has_payload(std::uint8_t cmd) { return cmd == 6; }
+}  // namespace
+
+TEST(Robustness, SilentPeerTimesOutInTheBlockingFirstReceive) {
+  // A message's first recvmsg blocks in the kernel (SO_RCVTIMEO): a peer that sends nothing must
+  // still end it at the io timeout, with the usual wording; io timeout 0 must not block at all.
+  for (double timeout : {0.4, 0.0}) {
+    SCOPED_TRACE(timeout);
+    int fds[2];
+    ASSERT_EQ(::socketpair(AF_UNIX, SOCK_STREAM, 0, fds), 0);
+    SocketTransport t(fds[0], false, "socketpair");
+    std::uint8_t cmd = 0, payload[48];
+    const auto t0 = Clock::now();
+    try {
+      t.read_message(cmd, payload, sizeof payload, has_payload, timeout, "a command byte", "payload");
+      ADD_FAILURE() << "expected a TimeoutError";
+    } catch (const TimeoutError& e) {
+      EXPECT_TRUE(contains(e.what(), "waiting for a command byte")) << e.what();
+      EXPECT_TRUE(contains(e.what(), "received 0 of 1 bytes")) << e.what();
+    }
+    const double elapsed = test::seconds_since(t0);
+    EXPECT_GE(elapsed, timeout);
+    EXPECT_LT(elapsed, timeout + 1.0);
+    ::close(fds[1]);
+  }
+}
+
+TEST(Robustness, MessageArrivingInPiecesIsReadWhole) {
+  // MBDyn writes the command byte and the payload separately: the blocking first recvmsg returns
+  // the byte alone, the rest is waited for in poll().
+  int fds[2];
+  ASSERT_EQ(::socketpair(AF_UNIX, SOCK_STREAM, 0, fds), 0);
+  SocketTransport t(fds[0], false, "socketpair");
+  std::uint8_t sent[49];
+  for (int i = 0; i < 49; ++i) sent[i] = static_cast<std::uint8_t>(i == 0 ? 6 : 100 + i);
+  std::thread writer([&] {
+    for (const auto& piece : {std::pair<int, int>{0, 1}, {1, 20}, {21, 28}}) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(30));
+      ASSERT_EQ(::send(fds[1], sent + piece.first, piece.second, 0), piece.second);
+    }
+  });
+  std::uint8_t cmd = 0, payload[48] = {};
+  t.read_message(cmd, payload, sizeof payload, has_payload, 5.0, "a command byte", "payload");
+  writer.join();
+  EXPECT_EQ(cmd, 6);
+  EXPECT_EQ(0, std::memcmp(payload, sent + 1, 48));
+  ::close(fds[1]);
 }

@@ -562,6 +562,24 @@ void FixMBDyn::decode_to_global(std::vector<Pose> &out)
   if (k.has_reference) {
     ref_R_ = rot ? k.reference_rotation_matrix() : M9{1, 0, 0, 0, 1, 0, 0, 0, 1};
     ref_x_ = k.reference.x;
+  } else if (k.rotation == mb::Rotation::OrientationMatrix || !rot) {
+    // MBDyn's default layout (global points, the matrix column-major on the wire) or no rotation:
+    // straight from the message's arrays, the values as the general loop below gives them.
+    const double *x = k.x.data(), *v = k.v.data(), *w = rot ? k.omega.data() : nullptr;
+    const double *o = rot ? k.orientation.data() : nullptr;
+    for (std::size_t i = 0; i < out.size(); ++i, x += 3, v += 3) {
+      Pose &p = out[i];
+      p.x = {x[0], x[1], x[2]};
+      p.v = {v[0], v[1], v[2]};
+      if (rot) {
+        p.w = {w[3 * i], w[3 * i + 1], w[3 * i + 2]};
+        p.R = mb::matrix_from_wire_column_major(o + 9 * i);
+      } else {
+        p.w = {0, 0, 0};
+        p.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+      }
+    }
+    return;
   }
   for (std::size_t i = 0; i < out.size(); ++i) {
     Pose &p = out[i];  // every field is written below
@@ -683,13 +701,13 @@ void FixMBDyn::interpolate(double s, std::vector<Pose> &out) const
   const double s2 = s * s, s3 = s2 * s;
   const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2, h11 = s3 - s2;
   const double d00 = 6 * s2 - 6 * s, d10 = 3 * s2 - 4 * s + 1, d01 = -6 * s2 + 6 * s, d11 = 3 * s2 - 2 * s;
+  if (s >= 1.0) {  // the end of the MBDyn step (every step with 1 sub-step): pose B itself
+    for (std::size_t k = 0; k < out.size(); ++k) out[k] = poseB_[k];
+    return;
+  }
   for (std::size_t k = 0; k < out.size(); ++k) {
     const Pose &A = poseA_[k], &B = poseB_[k];
     Pose &P = out[k];
-    if (s >= 1.0) {
-      P = B;
-      continue;
-    }
     for (int c = 0; c < 3; ++c) {
       P.x[c] = h00 * A.x[c] + h10 * T * A.v[c] + h01 * B.x[c] + h11 * T * B.v[c];
       P.v[c] = (d00 * A.x[c] + d01 * B.x[c]) / T + d10 * A.v[c] + d11 * B.v[c];
@@ -707,6 +725,7 @@ bool FixMBDyn::fast_member_lookup() const
 
 void FixMBDyn::apply_pose(const std::vector<Pose> &poses, bool set_x)
 {
+  if (node_atoms_fast_path()) return apply_pose_node_atoms(poses, set_x);  // only node atom entries
   double **x = atom->x, **v = atom->v;
   double **omega = atom->omega_flag ? atom->omega : nullptr;
   const bool rot = options_->nodal.has_rotation();
@@ -784,25 +803,8 @@ void FixMBDyn::accumulate_loads(const std::vector<Pose> &poses, std::vector<doub
       local[6 * k + 3 + c] += m[c] + (torque ? torque[i][c] : 0.0);
     }
   };
-  if (one_atom_per_node_ && fast_member_lookup()) {
-    // One atom per node, one member per node: each node's six entries are written once, zero when
-    // its atom is on another rank (0.0 + term: the same bits as adding to a zeroed slot).
-    local.resize(6 * n);
-    for (const auto &tm : member_list_) {
-      const int i = atom->map(tm.first), k = tm.second.node;
-      double *slot = &local[6 * k];
-      if (i >= 0 && i < atom->nlocal && atom->tag[i] == tm.first) {
-        double d[3] = {x[i][0] - poses[k].x[0], x[i][1] - poses[k].x[1], x[i][2] - poses[k].x[2]};
-        if (periodic) wrap(d);
-        const V3 m = cross(d, f[i]);
-        for (int c = 0; c < 3; ++c) {
-          slot[c] = 0.0 + f[i][c];
-          slot[3 + c] = 0.0 + (m[c] + (torque ? torque[i][c] : 0.0));
-        }
-      } else {
-        for (int c = 0; c < 6; ++c) slot[c] = 0.0;
-      }
-    }
+  if (node_atoms_fast_path()) {
+    accumulate_loads_node_atoms(poses, local);
   } else {
     local.assign(6 * n, 0.0);
     for (int i = 0; i < atom->nlocal; ++i) {
@@ -852,7 +854,8 @@ void FixMBDyn::send_answer(const std::vector<double> &loads6, bool converged, co
     l.reference_force = mat_t_vec(ref_R_, F0.data());
     if (c.has_rotation()) l.reference_moment = mat_t_vec(ref_R_, M0.data());
   }
-  sent_ = loads6;
+  // compute_array reads the answer itself when it holds all six global components
+  if (!answer_is_global6()) sent_ = loads6;
   std::string err;
   if (comm->me == 0) {
     try {
@@ -1012,10 +1015,16 @@ void FixMBDyn::post_integrate()
         return;
       }
       mbdyn_step_ = m.step;
+      if (pose_is_message()) {
+        decode_to_global(cur_);
+        ++substep_;
+        apply_pose(cur_, true);
+        return;
+      }
       decode_to_global(poseB_);
       if (correct_predictor_) {
-        const std::vector<Pose> msg = poseB_;
-        correct_prediction(msg);
+        msg_ = poseB_;  // a copy: correct_prediction rewrites poseB_ (msg_ keeps its storage)
+        correct_prediction(msg_);
       }
     }
     if (substeps_ > 1) std::fill(fsum_.begin(), fsum_.end(), 0.0);  // with 1 sub-step it stays 0
@@ -1023,6 +1032,14 @@ void FixMBDyn::post_integrate()
   ++substep_;
   interpolate(static_cast<double>(substep_) / substeps_, cur_);
   apply_pose(cur_, true);
+}
+
+bool FixMBDyn::pose_is_message() const
+{
+  // Loose coupling, one sub-step, MBDyn's own prediction: interpolate would copy the message's
+  // pose (B at s = 1), so it is decoded straight into cur_. Only sub-steps, tight iterations and
+  // the predictor correction read poseA_ and poseB_.
+  return substeps_ == 1 && !tight_ && !correct_predictor_;
 }
 
 void FixMBDyn::reevaluate_forces(int vflag)
@@ -1084,8 +1101,12 @@ void FixMBDyn::post_force(int vflag)
     out.resize(last.size());
     for (std::size_t c = 0; c < last.size(); ++c) out[c] = (fsum_[c] + last[c]) * inv;
   };
+  // With one sub-step the average, (0 + f) * 1, is f itself to the bit (f is never -0.0: each entry
+  // is 0.0 plus a sum, which round-to-nearest never makes -0.0; node meshes write their own entries,
+  // so with them the average is still taken).
+  const bool average_is_loads = substeps_ == 1 && meshes_.empty();
   if (!tight_) {
-    send_answer(average(loads), true, "the loads of MBDyn step (loose)");
+    send_answer(average_is_loads ? loads : average(loads), true, "the loads of MBDyn step (loose)");
     last_iterations_ = 1;
   } else {
     int it = 0;
@@ -1093,7 +1114,8 @@ void FixMBDyn::post_force(int vflag)
     for (;;) {
       int converged = (it + 1 >= max_iterations_) || (it > 0 && change <= tolerance_);
       MPI_Bcast(&converged, 1, MPI_INT, 0, world);  // rank 0 decides (spec P5)
-      send_answer(average(loads), converged != 0, converged ? "the converged loads (tight)" : "the loads of an iterate (tight)");
+      send_answer(average_is_loads ? loads : average(loads), converged != 0,
+                  converged ? "the converged loads (tight)" : "the loads of an iterate (tight)");
       if (converged) break;
       profile_.lap(ExchangeProfile::Loads);
       const Message m = receive_broadcast("MBDyn's next iterate (tight)");
@@ -1150,7 +1172,15 @@ double FixMBDyn::compute_vector(int i)
 
 double FixMBDyn::compute_array(int i, int j)
 {
-  return sent_[6 * i + j];
+  // the last loads sent, global frame
+  if (!answer_is_global6() || !answer_) return sent_[6 * i + j];
+  return j < 3 ? answer_->force[3 * i + j] : answer_->moment[3 * i + j - 3];
+}
+
+bool FixMBDyn::answer_is_global6() const
+{
+  // no reference node (no rotation into its frame) and moments sent (orientation other than none)
+  return !options_->nodal.reference_node && options_->nodal.has_rotation();
 }
 
 static void *create_fix_mbdyn(void *lmp, int narg, char **arg)

@@ -85,11 +85,19 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   void interpolate(double s, std::vector<Pose> &out) const;
   void apply_pose(const std::vector<Pose> &poses, bool set_x);
   bool fast_member_lookup() const;
+  // `node atom` couplings only (fix_mbdyn_node_atoms.cpp): the same results as apply_pose and
+  // accumulate_loads' general path, with the atoms looked up and their rows prefetched first.
+  bool node_atoms_fast_path() const;
+  void find_node_atoms(int rows_for_write);
+  void apply_pose_node_atoms(const std::vector<Pose> &poses, bool set_x);
+  void accumulate_loads_node_atoms(const std::vector<Pose> &poses, std::vector<double> &local);
   void accumulate_loads(const std::vector<Pose> &poses, std::vector<double> &out6);
   void reevaluate_forces(int vflag);
   void stop_run_at_end(const Message &m);
   double pose_change(const std::vector<Pose> &a, const std::vector<Pose> &b) const;
   void correct_prediction(const std::vector<Pose> &msg);
+  bool pose_is_message() const;
+  bool answer_is_global6() const;
 
   // configuration
   std::vector<NodeSpec> nodes_;
@@ -121,9 +129,11 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   bool t0_answer_pending_ = false;
   bool first_is_step1_ = false;     // tight, startup_exchange no: first message already received
   std::vector<Pose> prev_msg_;      // loose, predictor correct: the previous message as received
+  std::vector<Pose> msg_;           // loose, predictor correct: this message as received
   std::unordered_map<LAMMPS_NS::tagint, Member> members_;
   std::vector<std::pair<LAMMPS_NS::tagint, Member>> member_list_;  // members_ by tag
   bool one_atom_per_node_ = false;                                  // every node is `node atom`
+  std::vector<int> node_local_;  // member_list_'s local indices (-1: not owned here), per use
   std::vector<double> local_loads_, step_loads_, avg_;              // per-step buffers, reused
   std::unique_ptr<mbdyn::Loads> answer_;                            // the loads message, reused
   std::vector<MbdynMeshDriver> meshes_;  // node mesh entries, in order
@@ -131,7 +141,7 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   int allbits_ = 0;  // union of the group bits of coupled groups (0 if only atoms)
   std::vector<Pose> poseA_, poseB_, cur_;
   std::vector<double> fsum_;  // 6N sum of substep loads 1..N-1 of this MBDyn step
-  std::vector<double> sent_;  // 6N last loads sent, global frame
+  std::vector<double> sent_;  // 6N last loads sent, global frame (unless answer_ holds them)
   std::vector<double> prev_avg_;  // 6N sub-step average of the previous MBDyn step (or t0 loads)
   bool prev_is_t0_ = true;
   long long mbdyn_step_ = 0;

@@ -41,19 +41,23 @@ class PayloadReader {
   std::size_t offset_ = 0;
 };
 
+// Sequential writer into a buffer sized beforehand (plain stores, no growth checks per field).
 class PayloadWriter {
  public:
   explicit PayloadWriter(std::vector<std::uint8_t>& out) : out_(out) {}
-  void u8(std::uint8_t v) { out_.push_back(v); }
+  void u8(std::uint8_t v) { append(&v, 1); }
   void u32(std::uint32_t v) { append(&v, 4); }
   void doubles(const double* v, std::size_t n) { append(v, 8 * n); }
+  std::size_t offset() const { return offset_; }
 
  private:
   void append(const void* p, std::size_t n) {
-    const auto* b = static_cast<const std::uint8_t*>(p);
-    out_.insert(out_.end(), b, b + n);
+    if (n > out_.size() - offset_) throw std::logic_error("PayloadWriter: write past the buffer");
+    if (n) std::memcpy(out_.data() + offset_, p, n);
+    offset_ += n;
   }
   std::vector<std::uint8_t>& out_;
+  std::size_t offset_ = 0;
 };
 
 // True when no value is inf or NaN: v * 0 is 0 for finite v and NaN otherwise, and a NaN
@@ -105,11 +109,6 @@ void read_vectors(PayloadReader& r, std::vector<double>& out, std::size_t per_po
 }
 
 }  // namespace
-
-Matrix3 matrix_from_wire_column_major(const double* w) {
-  // Wire: R11 R21 R31 R12 R22 R32 R13 R23 R33 (spec §2, verified).
-  return {w[0], w[3], w[6], w[1], w[4], w[7], w[2], w[5], w[8]};
-}
 
 Matrix3 matrix_from_orientation_vector(const double* t) {
   // Rodrigues with the unit axis n = t / a: R = I + sin(a) [n]x + (1 - cos(a)) [n]x^2.
@@ -310,8 +309,7 @@ void encode_loads_into(const NodalConfig& config, Command command, const Loads& 
     if (rot) check_finite(loads.reference_moment.data(), 3, "reference moment");
   }
 
-  out.clear();
-  out.reserve(1 + config.loads_payload_bytes());
+  out.resize(1 + config.loads_payload_bytes());  // every byte is written below
   PayloadWriter w(out);
   w.u8(static_cast<std::uint8_t>(command));
   if (config.reference_node) {
@@ -331,8 +329,7 @@ void encode_loads_into(const NodalConfig& config, Command command, const Loads& 
     w.doubles(loads.force.data(), 3 * n);
     if (rot) w.doubles(loads.moment.data(), 3 * n);
   }
-  if (out.size() != 1 + config.loads_payload_bytes())
-    throw std::logic_error("encode_loads: layout and size disagree");
+  if (w.offset() != out.size()) throw std::logic_error("encode_loads: layout and size disagree");
 }
 
 }  // namespace dembridge::mbdyn

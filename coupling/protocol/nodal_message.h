@@ -84,12 +84,15 @@ Kinematics decode_kinematics_message(const NodalConfig& config, const std::uint8
 // MalformedMessageError on non-finite loads.
 std::vector<std::uint8_t> encode_loads(const NodalConfig& config, Command command,
                                        const Loads& loads);
-// The same into out (cleared first, its capacity kept: the per-message path of the session).
+// The same into out (resized to the message, its capacity kept: the per-message path of the session).
 void encode_loads_into(const NodalConfig& config, Command command, const Loads& loads,
                        std::vector<std::uint8_t>& out);
 
 // Orientation conversions used by Kinematics::rotation_matrix (spec §4.3).
-Matrix3 matrix_from_wire_column_major(const double* nine);
+// Wire: R11 R21 R31 R12 R22 R32 R13 R23 R33 (spec §2, verified). Inline: it runs per point and message.
+inline Matrix3 matrix_from_wire_column_major(const double* w) {
+  return {w[0], w[3], w[6], w[1], w[4], w[7], w[2], w[5], w[8]};
+}
 Matrix3 matrix_from_orientation_vector(const double* theta);  // radians
 Matrix3 matrix_from_euler123_degrees(const double* e);        // R = Rx(e1) Ry(e2) Rz(e3)
 

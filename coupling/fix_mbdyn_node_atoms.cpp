@@ -1,0 +1,130 @@
+// fix mbdyn's per-step kernels for `node atom` couplings (every MBDyn point drives one atom that
+// sits on it): set the atoms' pose, gather their loads. Issue 12, P5: in a step of 10^4 particles
+// the ~100 coupled atoms' rows of x, v, omega, f and torque have left the caches, and a loop that
+// meets them one at a time waits for one miss after another. So the atoms are first looked up
+// (the atom map read directly) and their rows prefetched, then visited; the rows are addressed as
+// the contiguous arrays LAMMPS allocates (&x[0][0] + 3 i: no load of the row pointer).
+// The arithmetic is the general path's (fix_mbdyn.cpp, apply_pose and accumulate_loads), term by
+// term, so both give the same bits.
+#include "fix_mbdyn.h"
+
+#include "atom.h"
+#include "domain.h"
+#include "update.h"
+
+#include "peer_session.h"
+
+#include <cmath>
+#include <limits>
+
+using namespace LAMMPS_NS;
+
+namespace dembridge {
+
+bool FixMBDyn::node_atoms_fast_path() const
+{
+  return one_atom_per_node_ && atom->map_style != Atom::MAP_NONE && !update->setupflag;
+}
+
+void FixMBDyn::find_node_atoms(int rows_for_write)
+{
+  // The map holds a tag's owned atom when it has one (LAMMPS sets it from the last index down, so
+  // an owned atom wins over its ghost images): an index below nlocal is the atom itself.
+  const int nlocal = atom->nlocal;
+  const int *map_array = atom->map_style == Atom::MAP_ARRAY ? atom->get_map_array() : nullptr;
+  node_local_.resize(member_list_.size());
+  double *x = nlocal ? &atom->x[0][0] : nullptr, *v = nlocal ? &atom->v[0][0] : nullptr;
+  double *f = nlocal ? &atom->f[0][0] : nullptr;
+  double *omega = nlocal && atom->omega_flag ? &atom->omega[0][0] : nullptr;
+  double *torque = nlocal && atom->torque_flag ? &atom->torque[0][0] : nullptr;
+  for (std::size_t j = 0; j < member_list_.size(); ++j) {
+    const tagint t = member_list_[j].first;
+    int i = map_array ? map_array[t] : atom->map(t);
+    if (i >= nlocal) i = -1;
+    node_local_[j] = i;
+    if (i < 0) continue;
+    if (rows_for_write) {
+      __builtin_prefetch(x + 3 * i, 1);
+      __builtin_prefetch(v + 3 * i, 1);
+      __builtin_prefetch(atom->image + i, 1);
+      if (omega) __builtin_prefetch(omega + 3 * i, 1);
+    } else {
+      __builtin_prefetch(x + 3 * i, 0);
+      __builtin_prefetch(f + 3 * i, 0);
+      if (torque) __builtin_prefetch(torque + 3 * i, 0);
+    }
+  }
+}
+
+void FixMBDyn::apply_pose_node_atoms(const std::vector<Pose> &poses, bool set_x)
+{
+  find_node_atoms(1);
+  if (atom->nlocal == 0) return;
+  double *x = &atom->x[0][0], *v = &atom->v[0][0];
+  double *omega = atom->omega_flag && options_->nodal.has_rotation() ? &atom->omega[0][0] : nullptr;
+  imageint *image = atom->image;
+  const imageint image0 = ((imageint) IMGMAX << IMG2BITS) | ((imageint) IMGMAX << IMGBITS) | IMGMAX;
+  // remap only where it can change x (see apply_pose)
+  const bool remap = domain->xperiodic || domain->yperiodic || domain->zperiodic || domain->triclinic;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const int periodic[3] = {domain->xperiodic, domain->yperiodic, domain->zperiodic};
+  double lo[3], hi[3];
+  for (int c = 0; c < 3; ++c) {
+    lo[c] = periodic[c] ? domain->boxlo[c] : -inf;
+    hi[c] = periodic[c] ? domain->boxhi[c] : inf;
+  }
+  for (std::size_t j = 0; j < member_list_.size(); ++j) {
+    const int i = node_local_[j];
+    if (i < 0) continue;
+    const Pose &P = poses[member_list_[j].second.node];
+    double *xi = x + 3 * i;
+    if (set_x) {
+      for (int c = 0; c < 3; ++c) xi[c] = P.x[c] + 0.0;  // R r = 0 on the point, as in apply_pose
+      image[i] = image0;
+      if (remap && (domain->triclinic || !(xi[0] >= lo[0] && xi[0] < hi[0] && xi[1] >= lo[1] && xi[1] < hi[1] &&
+                                           xi[2] >= lo[2] && xi[2] < hi[2])))
+        domain->remap(xi, image[i]);
+    }
+    for (int c = 0; c < 3; ++c) v[3 * i + c] = P.v[c] + 0.0;
+    if (omega)
+      for (int c = 0; c < 3; ++c) omega[3 * i + c] = P.w[c];
+  }
+}
+
+void FixMBDyn::accumulate_loads_node_atoms(const std::vector<Pose> &poses, std::vector<double> &local)
+{
+  // Each node's six entries are written once, zero when its atom is on another rank (0.0 + term:
+  // the same bits as adding to a zeroed slot, as the general path does).
+  find_node_atoms(0);
+  const int n = static_cast<int>(nodes_.size());
+  local.resize(6 * static_cast<std::size_t>(n));
+  const bool any = atom->nlocal > 0;
+  const double *x = any ? &atom->x[0][0] : nullptr, *f = any ? &atom->f[0][0] : nullptr;
+  const double *torque = any && atom->torque_flag ? &atom->torque[0][0] : nullptr;
+  // minimum_image only where it can change the arm (see accumulate_loads)
+  const bool periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const bool triclinic = domain->triclinic != 0;
+  const double half[3] = {domain->xperiodic ? domain->prd_half[0] : inf, domain->yperiodic ? domain->prd_half[1] : inf,
+                          domain->zperiodic ? domain->prd_half[2] : inf};
+  for (std::size_t j = 0; j < member_list_.size(); ++j) {
+    const int i = node_local_[j], k = member_list_[j].second.node;
+    double *slot = &local[6 * static_cast<std::size_t>(k)];
+    if (i < 0) {
+      for (int c = 0; c < 6; ++c) slot[c] = 0.0;
+      continue;
+    }
+    const double *xi = x + 3 * i, *fi = f + 3 * i, *px = poses[k].x.data();
+    double d[3] = {xi[0] - px[0], xi[1] - px[1], xi[2] - px[2]};
+    if (periodic &&
+        (triclinic || std::fabs(d[0]) > half[0] || std::fabs(d[1]) > half[1] || std::fabs(d[2]) > half[2]))
+      domain->minimum_image(FLERR, d);
+    const double m[3] = {d[1] * fi[2] - d[2] * fi[1], d[2] * fi[0] - d[0] * fi[2], d[0] * fi[1] - d[1] * fi[0]};
+    for (int c = 0; c < 3; ++c) {
+      slot[c] = 0.0 + fi[c];
+      slot[3 + c] = 0.0 + (m[c] + (torque ? torque[3 * i + c] : 0.0));
+    }
+  }
+}
+
+}  // namespace dembridge

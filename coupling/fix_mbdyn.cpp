@@ -690,6 +690,12 @@ void FixMBDyn::bind_atoms()
   one_atom_per_node_ = true;
   for (const NodeSpec &n : nodes_)
     if (!n.is_atom) one_atom_per_node_ = false;
+  node_tags_.clear();
+  node_index_.clear();
+  for (const auto &tm : member_list_) {
+    node_tags_.push_back(tm.first);
+    node_index_.push_back(tm.second.node);
+  }
   bound_ = true;
 }
 

@@ -133,7 +133,9 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   std::unordered_map<LAMMPS_NS::tagint, Member> members_;
   std::vector<std::pair<LAMMPS_NS::tagint, Member>> member_list_;  // members_ by tag
   bool one_atom_per_node_ = false;                                  // every node is `node atom`
-  std::vector<int> node_local_;  // member_list_'s local indices (-1: not owned here), per use
+  std::vector<LAMMPS_NS::tagint> node_tags_;  // one_atom_per_node_: member_list_'s tags,
+  std::vector<int> node_index_;                // their nodes,
+  std::vector<int> node_local_;                // their local indices (-1: not owned here), per use
   std::vector<double> local_loads_, step_loads_, avg_;              // per-step buffers, reused
   std::unique_ptr<mbdyn::Loads> answer_;                            // the loads message, reused
   std::vector<MbdynMeshDriver> meshes_;  // node mesh entries, in order

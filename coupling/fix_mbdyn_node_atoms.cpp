@@ -32,21 +32,31 @@ void FixMBDyn::find_node_atoms(int rows_for_write)
   // an owned atom wins over its ghost images): an index below nlocal is the atom itself.
   const int nlocal = atom->nlocal;
   const int *map_array = atom->map_style == Atom::MAP_ARRAY ? atom->get_map_array() : nullptr;
-  node_local_.resize(member_list_.size());
-  double *x = nlocal ? &atom->x[0][0] : nullptr, *v = nlocal ? &atom->v[0][0] : nullptr;
-  double *f = nlocal ? &atom->f[0][0] : nullptr;
-  double *omega = nlocal && atom->omega_flag ? &atom->omega[0][0] : nullptr;
-  double *torque = nlocal && atom->torque_flag ? &atom->torque[0][0] : nullptr;
-  for (std::size_t j = 0; j < member_list_.size(); ++j) {
-    const tagint t = member_list_[j].first;
-    int i = map_array ? map_array[t] : atom->map(t);
-    if (i >= nlocal) i = -1;
-    node_local_[j] = i;
+  const std::size_t n = node_tags_.size();
+  node_local_.resize(n);
+  const tagint *tags = node_tags_.data();
+  int *local = node_local_.data();
+  if (map_array) {
+    for (std::size_t j = 0; j < n; ++j) local[j] = map_array[tags[j]];
+  } else {
+    for (std::size_t j = 0; j < n; ++j) local[j] = atom->map(tags[j]);
+  }
+  if (nlocal == 0) {
+    for (std::size_t j = 0; j < n; ++j) local[j] = -1;
+    return;
+  }
+  double *x = &atom->x[0][0], *v = &atom->v[0][0], *f = &atom->f[0][0];
+  double *omega = atom->omega_flag ? &atom->omega[0][0] : nullptr;
+  double *torque = atom->torque_flag ? &atom->torque[0][0] : nullptr;
+  imageint *image = atom->image;
+  for (std::size_t j = 0; j < n; ++j) {
+    int i = local[j];
+    if (i >= nlocal) local[j] = i = -1;
     if (i < 0) continue;
     if (rows_for_write) {
       __builtin_prefetch(x + 3 * i, 1);
       __builtin_prefetch(v + 3 * i, 1);
-      __builtin_prefetch(atom->image + i, 1);
+      __builtin_prefetch(image + i, 1);
       if (omega) __builtin_prefetch(omega + 3 * i, 1);
     } else {
       __builtin_prefetch(x + 3 * i, 0);
@@ -73,10 +83,13 @@ void FixMBDyn::apply_pose_node_atoms(const std::vector<Pose> &poses, bool set_x)
     lo[c] = periodic[c] ? domain->boxlo[c] : -inf;
     hi[c] = periodic[c] ? domain->boxhi[c] : inf;
   }
-  for (std::size_t j = 0; j < member_list_.size(); ++j) {
-    const int i = node_local_[j];
+  const Pose *pose = poses.data();
+  const int *local = node_local_.data(), *node = node_index_.data();
+  const std::size_t n = node_local_.size();
+  for (std::size_t j = 0; j < n; ++j) {
+    const int i = local[j];
     if (i < 0) continue;
-    const Pose &P = poses[member_list_[j].second.node];
+    const Pose &P = pose[node[j]];
     double *xi = x + 3 * i;
     if (set_x) {
       for (int c = 0; c < 3; ++c) xi[c] = P.x[c] + 0.0;  // R r = 0 on the point, as in apply_pose
@@ -107,14 +120,18 @@ void FixMBDyn::accumulate_loads_node_atoms(const std::vector<Pose> &poses, std::
   const bool triclinic = domain->triclinic != 0;
   const double half[3] = {domain->xperiodic ? domain->prd_half[0] : inf, domain->yperiodic ? domain->prd_half[1] : inf,
                           domain->zperiodic ? domain->prd_half[2] : inf};
-  for (std::size_t j = 0; j < member_list_.size(); ++j) {
-    const int i = node_local_[j], k = member_list_[j].second.node;
-    double *slot = &local[6 * static_cast<std::size_t>(k)];
+  const Pose *pose = poses.data();
+  const int *index = node_local_.data(), *node = node_index_.data();
+  double *out = local.data();
+  const std::size_t nm = node_local_.size();
+  for (std::size_t j = 0; j < nm; ++j) {
+    const int i = index[j], k = node[j];
+    double *slot = out + 6 * static_cast<std::size_t>(k);
     if (i < 0) {
       for (int c = 0; c < 6; ++c) slot[c] = 0.0;
       continue;
     }
-    const double *xi = x + 3 * i, *fi = f + 3 * i, *px = poses[k].x.data();
+    const double *xi = x + 3 * i, *fi = f + 3 * i, *px = pose[k].x.data();
     double d[3] = {xi[0] - px[0], xi[1] - px[1], xi[2] - px[2]};
     if (periodic &&
         (triclinic || std::fabs(d[0]) > half[0] || std::fabs(d[1]) > half[1] || std::fabs(d[2]) > half[2]))

@@ -1,14 +1,15 @@
-// The contact law on a batch of touching pairs four at a time (the AVX2 loop of
-// pair_gran_loop.h; LAMMPS and LIGGGHTS laws): each pair's atom data is gathered into one lane, the
-// law (lammps_gran_law or liggghts_pair_law over Lanes4, contact/) runs lane-wise with the IEEE
-// operations of the scalar code and no FMA, and the results go to the sink one pair at a time in
-// list order, so forces are summed as in the scalar loop and results stay bit-identical (issue 12,
-// P1/P2). The type pair's coefficients (only the fields the kernel reads, Kernel::kCoeffFields) are
-// broadcast once per batch when the table is uniform (one atom type: the chute, most decks), else
-// gathered per four pairs.
+// The contact law on a batch of touching pairs four at a time (the AVX2 loop of pair_gran_loop.h;
+// LAMMPS and LIGGGHTS laws): each pair's atom data goes into one lane (row loads and a transpose,
+// pair_gran_rows.h), the law (lammps_gran_law or liggghts_pair_law over Lanes4, contact/) runs
+// lane-wise with the IEEE operations of the scalar code and no FMA, and the results go to the sink
+// one pair at a time in list order, so forces are summed as in the scalar loop and results stay
+// bit-identical (issue 12, P1/P2). The type pair's coefficients (only the fields the kernel reads,
+// Kernel::kCoeffFields) are broadcast once per batch when the table is uniform (one atom type: the
+// chute, most decks), else gathered per four pairs.
 #pragma once
 
 #include "pair_gran_kernel.h"
+#include "pair_gran_rows.h"
 #include "pair_gran_scan.h"
 
 #include <cstddef>
@@ -23,7 +24,7 @@ namespace dembridge::gran::loop_detail {
 #define DEMBRIDGE_HAVE_LANE_CONTACTS 1
 
 constexpr int kLaneMaxHistory = 6;  // history values per pair the lanes carry
-// The gathered atom data of four touching pairs, one per lane, that the LIGGGHTS laws' lane forms
+// The atom data of four touching pairs, one per lane, that the LIGGGHTS laws' lane forms
 // read. Kernel::LaneIn is the kernel's own input type (LAMMPS laws: LammpsPairIn<Lanes4>, the same
 // field names less mi, mj and the LIGGGHTS coefficients), which the loop fills directly.
 struct PairLanes {
@@ -60,10 +61,6 @@ template <class Fallback> struct LaneContacts {
   [[gnu::always_inline, gnu::target("avx2")]] static __m128i gather(const int *base, __m128i idx)
   {
     return _mm_mask_i32gather_epi32(_mm_setzero_si128(), base, idx, _mm_set1_epi32(-1), 4);
-  }
-  [[gnu::always_inline, gnu::target("avx2")]] static Lanes4 gather64(const double *base, __m256i idx)
-  {
-    return _mm256_mask_i64gather_pd(_mm256_setzero_pd(), base, idx, _mm256_castsi256_pd(_mm256_set1_epi64x(-1)), 8);
   }
   // the int lanes as 64-bit masks: -1 where the value is nonzero
   [[gnu::always_inline, gnu::target("avx2")]] static LaneMask4 nonzero(__m128i v)
@@ -112,32 +109,30 @@ template <class Fallback> struct LaneContacts {
       const bool uniform = d.uniform_coeffs;
       if (uniform) load_coeffs<Kernel::kCoeffFields>(broadcast, d.coeffs[d.coeff_stride + 1], Broadcast{});
       const PairCoeffsT<Lanes4> &pc = uniform ? broadcast : gathered;
-      const __m128i freeze = _mm_set1_epi32(d.freeze_groupbit);
-      const __m256i nv4 = _mm256_set1_epi64x(d.nv);
       for (int c = 0; c < n4; c += 4) {
-        const __m128i iv = _mm_load_si128(reinterpret_cast<const __m128i *>(b.i + c));
-        const __m128i jv = _mm_load_si128(reinterpret_cast<const __m128i *>(b.j + c));
-        const __m128i i3 = _mm_add_epi32(iv, _mm_add_epi32(iv, iv)), j3 = _mm_add_epi32(jv, _mm_add_epi32(jv, jv));
+        // per-atom values as rows and lanes (pair_gran_rows.h), not gathers
+        const int *ic = b.i + c, *jc = b.j + c;
         typename Kernel::LaneIn p;
         p.del[0] = _mm256_load_pd(b.dx + c);
         p.del[1] = _mm256_load_pd(b.dy + c);
         p.del[2] = _mm256_load_pd(b.dz + c);
         p.rsq = _mm256_load_pd(b.rsq + c);
-        p.radi = gather(d.radius, iv);
-        p.radj = gather(d.radius, jv);
+        p.radi = load_lanes_at(d.radius, ic);
+        p.radj = load_lanes_at(d.radius, jc);
         const Lanes4 radsum = p.radi + p.radj;
         // coincident centres leave the contact normal undefined (the built-ins return NaN)
         const unsigned coincident = ~bits(p.rsq > kCoincident * radsum * radsum) & 0xF;
-        Lanes4 mi = gather(d.rmass, iv), mj = gather(d.rmass, jv);
+        Lanes4 mi = load_lanes_at(d.rmass, ic), mj = load_lanes_at(d.rmass, jc);
         if (d.mass_rigid) {
-          const Lanes4 bi = gather(d.mass_rigid, iv), bj = gather(d.mass_rigid, jv);
+          const Lanes4 bi = load_lanes_at(d.mass_rigid, ic), bj = load_lanes_at(d.mass_rigid, jc);
           mi = lane_select(bi > 0.0, bi, mi);
           mj = lane_select(bj > 0.0, bj, mj);
         }
         Lanes4 meff = mi * mj / (mi + mj);
         if (d.freeze_groupbit) {
-          meff = lane_select(nonzero(_mm_and_si128(gather(d.mask, iv), freeze)), mj, meff);
-          meff = lane_select(nonzero(_mm_and_si128(gather(d.mask, jv), freeze)), mi, meff);
+          const int *m = d.mask, fz = d.freeze_groupbit;
+          meff = lane_select(nonzero(_mm_setr_epi32(m[ic[0]] & fz, m[ic[1]] & fz, m[ic[2]] & fz, m[ic[3]] & fz)), mj, meff);
+          meff = lane_select(nonzero(_mm_setr_epi32(m[jc[0]] & fz, m[jc[1]] & fz, m[jc[2]] & fz, m[jc[3]] & fz)), mi, meff);
         }
         const unsigned infinite = ~bits(lane_fabs(meff) <= std::numeric_limits<double>::max()) & 0xF;
         if (coincident | infinite) {
@@ -149,20 +144,23 @@ template <class Fallback> struct LaneContacts {
           p.mj = mj;
         }
         p.meff = meff;
-        for (int k = 0; k < 3; k++) {
-          p.vi[k] = gather(d.v + k, i3);
-          p.vj[k] = gather(d.v + k, j3);
-          p.wi[k] = gather(d.omega + k, i3);
-          p.wj[k] = gather(d.omega + k, j3);
-        }
+        load_rows3_at(d.v, ic, p.vi);
+        load_rows3_at(d.v, jc, p.vj);
+        load_rows3_at(d.omega, ic, p.wi);
+        load_rows3_at(d.omega, jc, p.wj);
         if (!uniform) {
+          const __m128i iv = _mm_load_si128(reinterpret_cast<const __m128i *>(b.i + c));
+          const __m128i jv = _mm_load_si128(reinterpret_cast<const __m128i *>(b.j + c));
           const __m128i pair_type = _mm_add_epi32(_mm_mullo_epi32(gather(d.type, iv), coeff_stride), gather(d.type, jv));
           load_coeffs<Kernel::kCoeffFields>(gathered, *d.coeffs, GatherAt{_mm_mullo_epi32(pair_type, coeff_doubles)});
         }
         Lanes4 hist[Kernel::kLaneHistory > 0 ? Kernel::kLaneHistory : Kernel::kLaneHistory == 0 ? 1 : kLaneMaxHistory] = {};
-        if (with_history) {  // slot * nv: slots are below 2^32 (neighbour-list entries of one rank)
-          const __m256i first = _mm256_mul_epu32(_mm256_load_si256(reinterpret_cast<const __m256i *>(b.slot + c)), nv4);
-          for (int k = 0; k < nv; k++) hist[k] = gather64(d.hist + k, first);
+        if (with_history) {  // each pair's nv values in a row: rows of three, then single values
+          const double *h0 = d.hist + b.slot[c] * d.nv, *h1 = d.hist + b.slot[c + 1] * d.nv, *h2 = d.hist + b.slot[c + 2] * d.nv,
+                       *h3 = d.hist + b.slot[c + 3] * d.nv;
+          int k = 0;
+          for (; k + 3 <= nv; k += 3) load_rows3(h0 + k, h1 + k, h2 + k, h3 + k, hist[k], hist[k + 1], hist[k + 2]);
+          for (; k < nv; k++) hist[k] = load_lanes(h0 + k, h1 + k, h2 + k, h3 + k);
         }
         ContactResultT<Lanes4> o;
         Kernel::lanes(d, p, pc, hist, o);

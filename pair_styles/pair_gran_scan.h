@@ -1,11 +1,12 @@
 // The overlap scan of the neighbour loop (pair_gran_loop.h): walks atom i's neighbours from jj on,
 // appends the touching ones to a batch (list order) and clears the springs of separated pairs.
 // Two versions with the same results: ScalarScan, and Avx2Scan, which tests four neighbours at a
-// time (gathered coordinates, lane-wise IEEE subtract/multiply/add in the scalar order, no FMA),
+// time (coordinates loaded as rows and transposed, lane-wise IEEE subtract/multiply/add in the scalar order, no FMA),
 // so del and rsq are bit-identical to the scalar ones. Most neighbours do not touch, and the scan
 // was about half of the pair style's instructions (issue 12, P1/P2; bench/run_chute_bench.py).
 #pragma once
 
+#include "pair_gran_rows.h"
 #include "touch_flag.h"
 
 #include <cstddef>
@@ -87,47 +88,39 @@ struct ScalarScan {
 #if defined(__x86_64__) && defined(__GNUC__)
 #define DEMBRIDGE_HAVE_AVX2_SCAN 1
 struct Avx2Scan {
-  // base[idx[k]] for the four lanes (the masked form: GCC 12 warns about the unmasked one's
-  // undefined source register)
-  [[gnu::always_inline, gnu::target("avx2")]] static __m256d gather(const double *base, __m128i idx)
-  {
-    return _mm256_mask_i32gather_pd(_mm256_setzero_pd(), base, idx, _mm256_castsi256_pd(_mm256_set1_epi64x(-1)), 8);
-  }
-
   template <bool ClearSeparated>
   [[gnu::always_inline, gnu::target("avx2")]] static void scan(const ScanAtom &s, int &jj_io, Batch &batch)
   {
     const __m256d xi = _mm256_set1_pd(s.xi), yi = _mm256_set1_pd(s.yi), zi = _mm256_set1_pd(s.zi);
     const __m256d radi = _mm256_set1_pd(s.radi);
-    const __m128i neighmask = _mm_set1_epi32(s.neighmask);
     int jj = jj_io;
     while (jj < s.jnum && batch.n < kBatch) {
       const int left = s.jnum - jj;
-      __m128i jv;
+      const int *jl = s.jlist + jj;  // the four neighbours' list entries
+      alignas(16) int tail[4] = {0, 0, 0, 0};
       unsigned valid = 0xF, touched_before = 0;  // lanes in the list; lanes whose pair was touching
       if (left >= 4) {
-        jv = _mm_loadu_si128(reinterpret_cast<const __m128i *>(s.jlist + jj));
         if (ClearSeparated) {
           std::uint32_t flags;
           std::memcpy(&flags, s.touch_i + jj, 4);
           const __m128i eq = _mm_cmpeq_epi8(_mm_cvtsi32_si128(int(flags)), _mm_set1_epi8(char(TouchFlag::Touching)));
           touched_before = unsigned(_mm_movemask_epi8(eq)) & 0xF;
         }
-      } else {  // the list's last 1-3 entries: never read past its end (index 0 in the unused lanes)
-        alignas(16) int idx[4] = {0, 0, 0, 0};
+      } else {  // the list's last 1-3 entries: never read past its end (atom 0 in the unused lanes)
         for (int k = 0; k < left; k++) {
-          idx[k] = s.jlist[jj + k];
+          tail[k] = s.jlist[jj + k];
           if (ClearSeparated && s.touch_i[jj + k] == TouchFlag::Touching) touched_before |= 1u << k;
         }
-        jv = _mm_load_si128(reinterpret_cast<const __m128i *>(idx));
+        jl = tail;
         valid = (1u << left) - 1;
       }
-      jv = _mm_and_si128(jv, neighmask);
-      const __m128i j3 = _mm_add_epi32(jv, _mm_add_epi32(jv, jv));
-      const __m256d delx = _mm256_sub_pd(xi, gather(s.x, j3));
-      const __m256d dely = _mm256_sub_pd(yi, gather(s.x + 1, j3));
-      const __m256d delz = _mm256_sub_pd(zi, gather(s.x + 2, j3));
-      const __m256d radsum = _mm256_add_pd(radi, gather(s.radius, jv));
+      const int js[4] = {jl[0] & s.neighmask, jl[1] & s.neighmask, jl[2] & s.neighmask, jl[3] & s.neighmask};
+      // row loads and a transpose, not gathers (pair_gran_rows.h)
+      __m256d xj, yj, zj;
+      load_rows3(s.x + 3 * std::size_t(js[0]), s.x + 3 * std::size_t(js[1]), s.x + 3 * std::size_t(js[2]), s.x + 3 * std::size_t(js[3]), xj,
+                 yj, zj);
+      const __m256d delx = _mm256_sub_pd(xi, xj), dely = _mm256_sub_pd(yi, yj), delz = _mm256_sub_pd(zi, zj);
+      const __m256d radsum = _mm256_add_pd(radi, load_lanes(s.radius + js[0], s.radius + js[1], s.radius + js[2], s.radius + js[3]));
       const __m256d rsq = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(delx, delx), _mm256_mul_pd(dely, dely)), _mm256_mul_pd(delz, delz));
       const unsigned touching = unsigned(_mm256_movemask_pd(_mm256_cmp_pd(rsq, _mm256_mul_pd(radsum, radsum), _CMP_LT_OQ))) & valid;
       if (ClearSeparated) {
@@ -135,12 +128,10 @@ struct Avx2Scan {
       }
       if (touching) {
         alignas(32) double dx[4], dy[4], dz[4], rs[4];
-        alignas(16) int js[4];
         _mm256_store_pd(dx, delx);
         _mm256_store_pd(dy, dely);
         _mm256_store_pd(dz, delz);
         _mm256_store_pd(rs, rsq);
-        _mm_store_si128(reinterpret_cast<__m128i *>(js), jv);
         for (unsigned t = touching; t; t &= t - 1) {
           const int k = __builtin_ctz(t);
           batch.push(s.ii, s.i, jj + k, js[k], s.slot0 + jj + k, dx[k], dy[k], dz[k], rs[k]);

@@ -18,18 +18,14 @@
 namespace dembridge::gran {
 namespace loop_detail {
 
-// The loop a model runs when DEMBRIDGE_PAIR_SCAN does not choose (use_avx2_scan), per kernel
-// (Kernel::avx2_by_default): the one that was faster in wall time on the chute, 1 rank, idle machine
-// (bench/run_chute_bench.py --loops, 3 interleaved rounds, 2026-11-28 16:00 UTC, doc/benchmarks.md).
-// The AVX2 loop executes 15-23 % fewer instructions, but its gathers are one instruction and many
-// cycles each. Paired median time AVX2 / scalar: hooke 1.11, gran/hooke 1.24, hooke/stiffness 1.08
-// (scalar faster); hertz 0.98, 2.x hertz 0.95, hertz + epsd + sjkr 0.90 (AVX2 faster: the Hertz law's
-// square roots and the rolling/cohesion arithmetic outweigh the gathers). Both loops give
-// bit-identical results; DEMBRIDGE_PAIR_SCAN=avx2 or =scalar forces one.
+// Which loop runs (use_avx2_scan): the AVX2 loop wherever the CPU has AVX2, for every model. Since its
+// per-atom values are row loads and an in-register transpose instead of gathers (pair_gran_rows.h) it
+// takes 0.86-0.93 of the scalar loop's CPU time for all six chute models (before: 1.07-1.35 for the
+// Hooke laws, the gathers being one instruction and many cycles each; doc/benchmarks.md). Both loops
+// give bit-identical results; DEMBRIDGE_PAIR_SCAN=avx2 or =scalar forces one.
 
 template <bool Hertz, bool History, bool LimitDamping> struct LammpsKernel {
   static constexpr bool kHistory = History;
-  static bool avx2_by_default(const PairLoopData &) { return Hertz; }
 #ifdef DEMBRIDGE_HAVE_LANE_CONTACTS
   // four pairs at a time in the AVX2 loop (pair_gran_lanes.h)
   static constexpr bool kLanes = true, kMasses = false;
@@ -53,11 +49,6 @@ template <bool Hertz, bool History, bool LimitDamping> struct LammpsKernel {
 
 template <NormalModel Normal, TangentialModel Tangential> struct LiggghtsKernel {
   static constexpr bool kHistory = true;  // rolling springs may need it whatever the tangential model
-  static bool avx2_by_default(const PairLoopData &d)
-  {
-    const ContactConfig &c = d.law->config();
-    return Normal == NormalModel::Hertz || c.rolling != RollingModel::Off || c.cohesion != CohesionModel::Off;
-  }
 #ifdef DEMBRIDGE_HAVE_LANE_CONTACTS
   static constexpr bool kLanes = true, kMasses = true;
   static constexpr int kLaneHistory = -1;  // d.nv (tangential and rolling springs)
@@ -143,21 +134,18 @@ using Contacts = ScalarContacts;
 #pragma GCC pop_options
 #endif
 
-// Which loop runs: the AVX2 one needs the CPU to have AVX2; DEMBRIDGE_PAIR_SCAN=scalar or =avx2
-// forces one (tests and bench/run_chute_bench.py --loops compare the two: same numbers), otherwise
-// the kernel's default (Kernel::avx2_by_default: the loop that was faster in wall time, doc/benchmarks.md).
-inline bool use_avx2_scan(bool by_default)
+// Which loop runs: the AVX2 one where the CPU has AVX2, unless DEMBRIDGE_PAIR_SCAN=scalar (or =avx2)
+// forces one (tests and bench/run_chute_bench.py --loops compare the two: same numbers).
+inline bool use_avx2_scan()
 {
 #ifdef DEMBRIDGE_HAVE_AVX2_SCAN
-  static const int forced = [] {  // -1: not forced, 0: scalar, 1: AVX2
-    if (!__builtin_cpu_supports("avx2")) return 0;
+  static const bool avx2 = [] {
+    if (!__builtin_cpu_supports("avx2")) return false;
     const char *env = std::getenv("DEMBRIDGE_PAIR_SCAN");
-    const std::string_view v = env ? env : "";
-    return v == "scalar" ? 0 : v == "avx2" ? 1 : -1;
+    return !(env && std::string_view(env) == "scalar");
   }();
-  return forced < 0 ? by_default : forced == 1;
+  return avx2;
 #else
-  (void)by_default;
   return false;
 #endif
 }
@@ -165,7 +153,7 @@ inline bool use_avx2_scan(bool by_default)
 template <class Kernel, class Sink> PairLoopError pair_loop(const PairLoopData &d, int ii_begin, int ii_end, Sink &sink)
 {
 #ifdef DEMBRIDGE_HAVE_AVX2_SCAN
-  if (use_avx2_scan(Kernel::avx2_by_default(d))) return avx2_scan::pair_loop<Kernel>(d, ii_begin, ii_end, sink);
+  if (use_avx2_scan()) return avx2_scan::pair_loop<Kernel>(d, ii_begin, ii_end, sink);
 #endif
   return scalar_scan::pair_loop<Kernel>(d, ii_begin, ii_end, sink);
 }

@@ -15,8 +15,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import oracle_harness as oh  # noqa: E402
 
-# The plugin's runs use its AVX2 loop (the LIGGGHTS laws' four-lane form; the default loop is the
-# scalar one, pair_gran_loop.h), so that the oracle checks the lanes. DEMBRIDGE_PAIR_SCAN=scalar in the
+# The plugin's runs use its AVX2 loop (the LIGGGHTS laws' four-lane form; the default where the CPU has
+# AVX2, pair_gran_loop.h), so that the oracle checks the lanes also if the default changes. DEMBRIDGE_PAIR_SCAN=scalar in the
 # caller's environment wins (ctest entry oracle.gran_hooke_scalar_loop).
 os.environ.setdefault("DEMBRIDGE_PAIR_SCAN", "avx2")
 

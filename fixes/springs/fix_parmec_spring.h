@@ -138,7 +138,9 @@ class FixParmecSpring : public state::PerAtomStateFix {
   // What one spring gives its atoms (force, torque per side), written by the (threaded) evaluation and
   // contributed in spring order afterwards.
   struct SpringResult {
-    double ft1[6], ft2[6];  // (F, a x F) on part1 with sign +1, (F, b x F) on part2 with sign -1
+    // (F, a x F) on part1, then -(F, b x F) on part2: each side with its sign, so that the sums only add (the
+    // negation is exact: adding -v is subtracting v)
+    double ft[12];
     double value = 0.0;     // TooLong: the length
     int i = 0, k = -1, key = 0;
     bool apply = false;
@@ -175,6 +177,11 @@ class FixParmecSpring : public state::PerAtomStateFix {
   enum : int { kMoved = 1, kFailed = 2 };
   // Parmec: 'order parmec' (compiled once per mode, so that the default loop carries none of its branches).
   template <bool Parmec> int evaluate_spring(const EvalContext &ctx, int r);
+  int evaluate_centres(const EvalContext &ctx, int r);  // committed centre-to-centre point spring, default order
+  int output_row(const EvalContext &ctx, int r, const springs::SpringState &state, double eqm, int k);
+  std::vector<int> centre_r_, other_r_;  // evaluation indices of evaluate_centres' springs and of the others
+  int centre_total_ = -1;                 // plan size the split was made for
+  void split_plan(int total);
   // The local output is written only on steps where something can read it (output_wanted()).
   bool readers_every_step_ = false;  // a compute reduce, fix ave/histo, python or external fix exists (init)
   bool output_wanted(Mode mode) const;

@@ -705,6 +705,27 @@ bool FixParmecSpring::output_wanted(Mode mode) const
          update->ntimestep == update->laststep;
 }
 
+// The law's step of spring d (atoms i, k) in this frame: advances state, returns the force on part1; eqm: the
+// EQM when it was computed (ratio dashpot or output wanted). Throws the kernels' errors.
+[[gnu::always_inline]] inline sp::Vec3 FixParmecSpring::law_step(const EvalContext &ctx, const SpringDef &d, int i, int k,
+                                                                 const sp::SpringFrame &frame, sp::SpringState &state,
+                                                                 double &eqm) const
+{
+  sp::SpringStepInput in;
+  in.stroke0 = d.stroke0;
+  in.time = ctx.tnow - ctx.dt;  // Parmec's label t_n of the positions x_{n+1/2} (kernel doc §5)
+  in.dt = ctx.dt;
+  if (ctx.fill || d.law.needs_equivalent_mass()) {
+    eqm = spring_eqm(ctx, d, i, k, frame.z);
+    in.equivalent_mass = std::isnan(eqm) ? 0.0 : eqm;
+  }
+  if (state.code >= 0) {
+    auto u = unspring_unload_.find(state.code);
+    in.unspring_unload = u == unspring_unload_.end() ? nullptr : u->second;
+  }
+  return sp::advance_spring(d.law, state, frame, in).on_part1;
+}
+
 // One spring (evaluation index r of the plan). Thread-safe: reads atoms and definitions, writes only its
 // record, output row r, plan_[r] and results_[r]; failures are recorded, reported by evaluate().
 template <bool Parmec>
@@ -806,21 +827,8 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
     kin.u = parmec ? sp::relative_velocity_parmec(vec(v[i]), wj, a, k >= 0, vk, wk, b)
                    : sp::relative_velocity(vec(v[i]), wj, a, k >= 0, vk, wk, b);
     const sp::SpringFrame frame = sp::spring_frame(d.mode, d.d, kin, parmec);
-    sp::SpringStepInput in;
-    in.stroke0 = d.stroke0;
-    in.time = ctx.tnow - ctx.dt;  // Parmec's label t_n of the positions x_{n+1/2} (kernel doc §5)
-    in.dt = ctx.dt;
     try {
-      if (ctx.fill || d.law.needs_equivalent_mass()) {
-        eqm = spring_eqm(ctx, d, i, k, frame.z);
-        in.equivalent_mass = std::isnan(eqm) ? 0.0 : eqm;
-      }
-      if (state.code >= 0) {
-        auto u = unspring_unload_.find(state.code);
-        in.unspring_unload = u == unspring_unload_.end() ? nullptr : u->second;
-      }
-      const sp::SpringForce f = sp::advance_spring(d.law, state, frame, in);
-      F = f.on_part1;
+      F = law_step(ctx, d, i, k, frame, state, eqm);
     } catch (std::exception &e) {
       record_failure(res, e.what());
       return flags | kFailed;
@@ -912,22 +920,10 @@ int FixParmecSpring::output_row(const EvalContext &ctx, int r, const sp::SpringS
   const double *vi = v[i], *vk = v[k];
   frame.velocity = sp::dot(frame.z, sp::Vec3{vk[0] - vi[0], vk[1] - vi[1], vk[2] - vi[2]});
   sp::SpringState &state = hot_[r];
-  sp::SpringStepInput in;
-  in.stroke0 = d.stroke0;
-  in.time = ctx.tnow - ctx.dt;
-  in.dt = ctx.dt;
   double eqm = -1.0;
   sp::Vec3 F;
   try {
-    if (ctx.fill || d.law.needs_equivalent_mass()) {
-      eqm = spring_eqm(ctx, d, i, k, frame.z);
-      in.equivalent_mass = std::isnan(eqm) ? 0.0 : eqm;
-    }
-    if (state.code >= 0) {
-      auto u = unspring_unload_.find(state.code);
-      in.unspring_unload = u == unspring_unload_.end() ? nullptr : u->second;
-    }
-    F = sp::advance_spring(d.law, state, frame, in).on_part1;
+    F = law_step(ctx, d, i, k, frame, state, eqm);
   } catch (std::exception &e) {
     record_failure(res, e.what());
     return flags | kFailed;

@@ -177,7 +177,9 @@ class FixParmecSpring : public state::PerAtomStateFix {
   enum : int { kMoved = 1, kFailed = 2 };
   // Parmec: 'order parmec' (compiled once per mode, so that the default loop carries none of its branches).
   template <bool Parmec> int evaluate_spring(const EvalContext &ctx, int r);
-  int evaluate_centres(const EvalContext &ctx, int r);  // committed centre-to-centre point spring, default order
+  int evaluate_centres(const EvalContext &ctx, int r);
+  springs::Vec3 law_step(const EvalContext &ctx, const SpringDef &d, int i, int k, const springs::SpringFrame &frame,
+                         springs::SpringState &state, double &eqm) const;  // committed centre-to-centre point spring, default order
   int output_row(const EvalContext &ctx, int r, const springs::SpringState &state, double eqm, int k);
   std::vector<int> centre_r_, other_r_;  // evaluation indices of evaluate_centres' springs and of the others
   int centre_total_ = -1;                 // plan size the split was made for

@@ -495,7 +495,8 @@ void FixParmecSpring::evaluate(Mode mode)
   plan_builds_ = neighbor->ncalls;
   ctx.fill = output_wanted(mode);
   auto spring = parmec_order_ ? &FixParmecSpring::evaluate_spring<true> : &FixParmecSpring::evaluate_spring<false>;
-  // Committed steps in the default order: the centre-to-centre point springs by their own loop (evaluate_centres)
+  // Committed steps in the default order: the centre-to-centre point springs and the planes carried by part2
+  // from part1's centre by their own loops (evaluate_centres, evaluate_plane)
   const bool split = mode == Mode::Commit && !parmec_order_;
 
   // Phase 1, threaded: every spring from its own record and the atoms' (read-only) data; it writes its
@@ -509,9 +510,12 @@ void FixParmecSpring::evaluate(Mode mode)
 #pragma omp single nowait
     threads_used_ = std::max(threads_used_, omp_get_num_threads());
     if (split) {
-      const int nc = static_cast<int>(centre_r_.size()), no = static_cast<int>(other_r_.size());
+      const int nc = static_cast<int>(centre_r_.size()), np = static_cast<int>(plane_r_.size());
+      const int no = static_cast<int>(other_r_.size());
 #pragma omp for schedule(static) nowait
       for (int n = 0; n < nc; n++) flags |= evaluate_centres(ctx, centre_r_[n]);
+#pragma omp for schedule(static) nowait
+      for (int n = 0; n < np; n++) flags |= evaluate_plane(ctx, plane_r_[n]);
 #pragma omp for schedule(static)
       for (int n = 0; n < no; n++) flags |= (this->*spring)(ctx, other_r_[n]);
     } else {
@@ -522,6 +526,7 @@ void FixParmecSpring::evaluate(Mode mode)
 #else
   if (split) {
     for (const int r : centre_r_) flags |= evaluate_centres(ctx, r);
+    for (const int r : plane_r_) flags |= evaluate_plane(ctx, r);
     for (const int r : other_r_) flags |= (this->*spring)(ctx, r);
   } else {
     for (int r = 0; r < total; r++) flags |= (this->*spring)(ctx, r);
@@ -665,11 +670,13 @@ bool FixParmecSpring::refresh_plan()
   return true;
 }
 
-// The evaluation indices of the springs evaluate_centres() takes (centre_r_) and of the others (other_r_), and
-// what their results keep between steps: atom, key, and the +0 torques of centre attachments.
+// The evaluation indices of the springs evaluate_centres() takes (centre_r_), evaluate_plane() (plane_r_) and of
+// the others (other_r_), and what their results keep between steps: atom, key, and the +0 torques of centre
+// attachments.
 void FixParmecSpring::split_plan(int total)
 {
   centre_r_.clear();
+  plane_r_.clear();
   other_r_.clear();
   for (int r = 0; r < total; r++) {
     const SpringDef &d = *plan_[r].def;
@@ -682,7 +689,8 @@ void FixParmecSpring::split_plan(int total)
     }
     const bool centres = d.mode == sp::DirectionMode::Follower && d.tag2 >= 0 && d.arm1_zero && d.arm2_zero &&
                          !(d.law.friction > 0.0);
-    (centres ? centre_r_ : other_r_).push_back(r);
+    const bool plane = d.mode == sp::DirectionMode::Plane && d.tag2 >= 0 && d.arm1_zero;
+    (centres ? centre_r_ : plane ? plane_r_ : other_r_).push_back(r);
   }
   centre_total_ = total;
 }
@@ -769,17 +777,8 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
   int k = -1;
   sp::Vec3 b = zero3, q, normal = d.nref;
   if (d.tag2 >= 0) {
-    // part2 where it was last time unless its tag moved (ghosts rebuilt) or images may change (periodic)
-    k = item.k;
-    if (k < 0 || (ctx.recheck && (ctx.periodic || k >= ctx.nall || ctx.tag[k] != d.tag2))) {
-      k = second_atom_or_missing(idx, i, true);
-      if (k != item.k) flags |= kMoved;
-      item.k = k;
-    }
-    if (k < 0) {
-      res.failure = Failure::Part2Missing;
-      return flags | kFailed;
-    }
+    k = part2_of(ctx, item, res, flags);
+    if (k < 0) return flags | kFailed;
     const double dist = sp::norm(vec(x[k]) - vec(x[i]));
     if (dist > cutghost_) {
       res.failure = Failure::TooLong;
@@ -888,24 +887,13 @@ int FixParmecSpring::output_row(const EvalContext &ctx, int r, const sp::SpringS
 // non-zero elastic force or dropped (friction, which would see it, is not in this class).
 [[gnu::always_inline]] inline int FixParmecSpring::evaluate_centres(const EvalContext &ctx, int r)
 {
-  double **x = atom->x, **v = atom->v;
   PlanItem &item = plan_[r];
-  const int i = item.i;
-  const SpringDef &d = *item.def;
   SpringResult &res = results_[r];
-  res.apply = false;
-  res.failure = Failure::None;
   int flags = 0;
-  int k = item.k;
-  if (k < 0 || (ctx.recheck && (ctx.periodic || k >= ctx.nall || ctx.tag[k] != d.tag2))) {
-    k = second_atom_or_missing(item.key, i, true);
-    if (k != item.k) flags |= kMoved;
-    item.k = k;
-  }
-  if (k < 0) {
-    res.failure = Failure::Part2Missing;
-    return flags | kFailed;
-  }
+  const int k = part2_of(ctx, item, res, flags);
+  if (k < 0) return flags | kFailed;
+  double **x = atom->x, **v = atom->v;
+  const int i = item.i;
   const double *xi = x[i], *xk = x[k];
   const sp::Vec3 w{(xk[0] + 0.0) - (xi[0] + 0.0), (xk[1] + 0.0) - (xi[1] + 0.0), (xk[2] + 0.0) - (xi[2] + 0.0)};
   sp::SpringFrame frame;
@@ -919,26 +907,104 @@ int FixParmecSpring::output_row(const EvalContext &ctx, int r, const sp::SpringS
   frame.z = sp::unit_of(w, frame.len, false);
   const double *vi = v[i], *vk = v[k];
   frame.velocity = sp::dot(frame.z, sp::Vec3{vk[0] - vi[0], vk[1] - vi[1], vk[2] - vi[2]});
+  return flags | commit_force(ctx, r, k, frame, nullptr);
+}
+
+// The committed law step of spring r of the own loops (evaluate_centres, evaluate_plane) in this frame: its force
+// in the record and in results_[r] (F on part1, -F on part2), part2's torque -(b x F) if arm2 (b) is given, else
+// split_plan's -0, part1's split_plan's +0; its output row if wanted. Returns kFailed or 0.
+[[gnu::always_inline]] inline int FixParmecSpring::commit_force(const EvalContext &ctx, int r, int k,
+                                                                const sp::SpringFrame &frame, const sp::Vec3 *arm2)
+{
+  PlanItem &item = plan_[r];
+  SpringResult &res = results_[r];
   sp::SpringState &state = hot_[r];
   double eqm = -1.0;
   sp::Vec3 F;
   try {
-    F = law_step(ctx, d, i, k, frame, state, eqm);
+    F = law_step(ctx, *item.def, item.i, k, frame, state, eqm);
   } catch (std::exception &e) {
     record_failure(res, e.what());
-    return flags | kFailed;
+    return kFailed;
   }
   double *slot = item.slot;
   for (int c = 0; c < 3; c++) slot[kForce + c] = F[c];
   slot[kValid] = 1.0;
   res.apply = true;
   res.k = k;
-  for (int c = 0; c < 3; c++) {  // torques: +0 and -0, written by split_plan
+  for (int c = 0; c < 3; c++) {
     res.ft[c] = F[c];
     res.ft[6 + c] = -F[c];
   }
-  if (!ctx.fill) return flags;
-  return flags | output_row(ctx, r, state, eqm, k);
+  if (arm2) {
+    const sp::Vec3 tb = sp::cross(*arm2, F);
+    for (int c = 0; c < 3; c++) res.ft[9 + c] = -tb[c];
+  }
+  if (!ctx.fill) return 0;
+  return output_row(ctx, r, state, eqm, k);
+}
+
+// Part2's local/ghost index for plan item 'item': where it was last time unless its tag moved (ghosts rebuilt)
+// or images may change (periodic); flags gets kMoved if it changed. -1 (res.failure set) if it is missing.
+// Starts the spring's result (not applied, no failure).
+[[gnu::always_inline]] inline int FixParmecSpring::part2_of(const EvalContext &ctx, PlanItem &item, SpringResult &res,
+                                                            int &flags)
+{
+  res.apply = false;
+  res.failure = Failure::None;
+  int k = item.k;
+  if (k < 0 || (ctx.recheck && (ctx.periodic || k >= ctx.nall || ctx.tag[k] != item.def->tag2))) {
+    k = second_atom_or_missing(item.key, item.i, true);
+    if (k != item.k) flags |= kMoved;
+    item.k = k;
+  }
+  if (k < 0) res.failure = Failure::Part2Missing;
+  return k;
+}
+
+// The committed step of a point-to-plane spring from part1's centre to a plane carried by part2, an atom
+// (plane_r_, default order): evaluate_spring's arithmetic without part1's zero arm and its branches. Equal
+// bitwise: part2's matrix, arm, normal and point q, p = x_i + 0 and the frame are formed as there; part1's
+// torque is the +0 written by split_plan. Without friction the relative velocity drops w_i x 0 (it changes at
+// most the sign of a zero component, which reaches only the dashpot's velocity, where it is added to a non-zero
+// elastic force or dropped, as in evaluate_centres); with friction it is kept, since the friction sees the sign
+// of a zero tangential component.
+[[gnu::always_inline]] inline int FixParmecSpring::evaluate_plane(const EvalContext &ctx, int r)
+{
+  PlanItem &item = plan_[r];
+  SpringResult &res = results_[r];
+  int flags = 0;
+  const int k = part2_of(ctx, item, res, flags);
+  if (k < 0) return flags | kFailed;
+  const SpringDef &d = *item.def;
+  double **x = atom->x, **v = atom->v;
+  const int i = item.i;
+  const sp::Vec3 xi = vec(x[i]), xk = vec(x[k]);
+  const double dist = sp::norm(xk - xi);
+  if (dist > cutghost_) {
+    res.failure = Failure::TooLong;
+    res.value = dist;
+    return flags | kFailed;
+  }
+  const sp::Vec3 zero3{0, 0, 0};
+  const Rot Rk = ctx.quat ? Rot::of(ctx.quat[k]) : Rot::identity();
+  const sp::Vec3 b = d.arm2_zero ? zero3 : Rk.apply(d.arm2);
+  const sp::Vec3 normal = Rk.apply(d.nref);
+  const sp::Vec3 p = xi + zero3, q = xk + b;
+  const sp::Vec3 vk = vec(v[k]);
+  const sp::Vec3 wk = ctx.omega ? vec(ctx.omega[k]) : zero3;
+  const bool friction = d.law.friction > 0.0;
+  const sp::Vec3 u = friction ? sp::relative_velocity(vec(v[i]), ctx.omega ? vec(ctx.omega[i]) : zero3, zero3, true,
+                                                      vk, wk, b)
+                              : (vk + sp::cross(wk, b)) - vec(v[i]);
+  sp::SpringFrame frame;  // spring_frame()'s Plane case (u_tangential only for the friction)
+  const sp::Vec3 w = q - p;
+  frame.distance = std::sqrt(sp::dot(w, w));
+  frame.z = normal;
+  frame.len = sp::dot(p - q, normal);
+  frame.velocity = sp::dot(normal, u);
+  if (friction) frame.u_tangential = u - frame.velocity * normal;
+  return flags | commit_force(ctx, r, k, frame, d.arm2_zero ? nullptr : &b);
 }
 
 void FixParmecSpring::record_failure(SpringResult &res, const char *what)

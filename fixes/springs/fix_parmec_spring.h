@@ -177,11 +177,14 @@ class FixParmecSpring : public state::PerAtomStateFix {
   enum : int { kMoved = 1, kFailed = 2 };
   // Parmec: 'order parmec' (compiled once per mode, so that the default loop carries none of its branches).
   template <bool Parmec> int evaluate_spring(const EvalContext &ctx, int r);
-  int evaluate_centres(const EvalContext &ctx, int r);
+  int evaluate_centres(const EvalContext &ctx, int r);  // committed centre-to-centre point spring, default order
+  int evaluate_plane(const EvalContext &ctx, int r);    // committed plane carried by part2 from part1's centre
+  int part2_of(const EvalContext &ctx, PlanItem &item, SpringResult &res, int &flags);
+  int commit_force(const EvalContext &ctx, int r, int k, const springs::SpringFrame &frame, const springs::Vec3 *arm2);
   springs::Vec3 law_step(const EvalContext &ctx, const SpringDef &d, int i, int k, const springs::SpringFrame &frame,
-                         springs::SpringState &state, double &eqm) const;  // committed centre-to-centre point spring, default order
+                         springs::SpringState &state, double &eqm) const;
   int output_row(const EvalContext &ctx, int r, const springs::SpringState &state, double eqm, int k);
-  std::vector<int> centre_r_, other_r_;  // evaluation indices of evaluate_centres' springs and of the others
+  std::vector<int> centre_r_, plane_r_, other_r_;  // evaluation indices of evaluate_centres', evaluate_plane's, others'
   int centre_total_ = -1;                 // plan size the split was made for
   void split_plan(int total);
   // The local output is written only on steps where something can read it (output_wanted()).

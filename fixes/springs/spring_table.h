@@ -60,7 +60,7 @@ inline std::size_t SpringTable::left_interval(const std::vector<double>& col, do
   return lo;
 }
 
-inline SpringTable::Sample SpringTable::lookup(double s, bool fused) const {
+[[gnu::always_inline]] inline SpringTable::Sample SpringTable::lookup(double s, bool fused) const {
   const std::size_t lo = left_interval(x_, s);
   const double slope = (y_[lo + 1] - y_[lo]) / (x_[lo + 1] - x_[lo]);
   // value written as y_lo + slope (s - x_lo): round-off decides whether F == 0 exactly (spec §17.9)

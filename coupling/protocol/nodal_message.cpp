@@ -15,51 +15,6 @@ namespace dembridge::mbdyn {
 
 namespace {
 
-// Sequential reader over a payload; memcpy because the payload need not be aligned (spec P6).
-class PayloadReader {
- public:
-  PayloadReader(const std::uint8_t* data, std::size_t size) : data_(data), size_(size) {}
-  std::uint32_t u32() {
-    std::uint32_t v;
-    std::memcpy(&v, take(4), 4);
-    return v;
-  }
-  void doubles(double* out, std::size_t n) { std::memcpy(out, take(8 * n), 8 * n); }
-  void skip(std::size_t n) { take(n); }
-  std::size_t offset() const { return offset_; }
-
- private:
-  const std::uint8_t* take(std::size_t n) {
-    // Lengths are checked before decoding; this guards the arithmetic itself.
-    if (n > size_ - offset_) throw std::logic_error("PayloadReader: read past the checked size");
-    const std::uint8_t* p = data_ + offset_;
-    offset_ += n;
-    return p;
-  }
-  const std::uint8_t* data_;
-  std::size_t size_;
-  std::size_t offset_ = 0;
-};
-
-// Sequential writer into a buffer sized beforehand (plain stores, no growth checks per field).
-class PayloadWriter {
- public:
-  explicit PayloadWriter(std::vector<std::uint8_t>& out) : out_(out) {}
-  void u8(std::uint8_t v) { append(&v, 1); }
-  void u32(std::uint32_t v) { append(&v, 4); }
-  void doubles(const double* v, std::size_t n) { append(v, 8 * n); }
-  std::size_t offset() const { return offset_; }
-
- private:
-  void append(const void* p, std::size_t n) {
-    if (n > out_.size() - offset_) throw std::logic_error("PayloadWriter: write past the buffer");
-    if (n) std::memcpy(out_.data() + offset_, p, n);
-    offset_ += n;
-  }
-  std::vector<std::uint8_t>& out_;
-  std::size_t offset_ = 0;
-};
-
 // True when no value is inf or NaN: v * 0 is 0 for finite v and NaN otherwise, and a NaN
 // survives any sum. Two lanes at a time where SSE2 exists; the per-value search below runs only
 // to name a bad value.
@@ -82,8 +37,9 @@ bool all_finite(const double* v, std::size_t n) {
   return sum == 0.0;
 }
 
+// labels: the points' labels, or nullptr without labels.
 void require_finite(const double* values, std::size_t per_point, std::size_t points,
-                    const char* field, const std::vector<std::uint32_t>& labels) {
+                    const char* field, const std::uint32_t* labels) {
   if (all_finite(values, per_point * points)) return;
   for (std::size_t i = 0; i < points; ++i)
     for (std::size_t k = 0; k < per_point; ++k) {
@@ -92,20 +48,59 @@ void require_finite(const double* values, std::size_t per_point, std::size_t poi
       std::ostringstream msg;
       msg << "MBDyn kinematics: expected finite values, received " << value << " in field '"
           << field << "' of point " << i;
-      if (!labels.empty()) msg << " (label " << labels[i] << ")";
+      if (labels) msg << " (label " << labels[i] << ")";
       msg << ", component " << k;
       throw MalformedMessageError(msg.str());
     }
 }
 
-void read_vectors(PayloadReader& r, std::vector<double>& out, std::size_t per_point,
-                  std::size_t points, bool present) {
-  if (!present) {
-    out.clear();
-    return;
+// Appends n bytes at p to a layout (p is written when a message is read into the layout).
+void append_span(std::vector<WireSpan>& out, const void* p, std::size_t n) {
+  if (n) out.push_back({const_cast<void*>(p), n});
+}
+void append_pad(std::vector<WireSpan>& out, std::size_t n) { out.push_back({nullptr, n}); }
+
+// The kinematics layout over k as it is (already shaped for config): the wire order of spec §4.1.
+void kinematics_spans(const NodalConfig& config, const Kinematics& k, std::vector<WireSpan>& out) {
+  const bool rot = config.has_rotation();
+  const bool acc = config.accelerations;
+  out.clear();
+  if (config.reference_node) {
+    const ReferenceKinematics& ref = k.reference;
+    if (config.labels) {
+      append_span(out, &ref.label, 4);
+      append_pad(out, 4);  // ignored on receipt (spec §2)
+    }
+    append_span(out, ref.x.data(), 24);
+    if (rot) append_span(out, ref.orientation.data(), 8 * static_cast<std::size_t>(config.rotation_doubles()));
+    append_span(out, ref.v.data(), 24);
+    if (rot) append_span(out, ref.omega.data(), 24);
+    if (acc) append_span(out, ref.a.data(), 24);
+    if (acc && rot) append_span(out, ref.omega_dot.data(), 24);
   }
-  out.resize(per_point * points);  // the same size as the last message: no allocation, no zero fill
-  r.doubles(out.data(), out.size());
+  if (config.num_points > 0) {
+    if (config.labels) {
+      append_span(out, k.labels.data(), 4 * k.labels.size());
+      if (config.num_points % 2) append_pad(out, 4);
+    }
+    // absent blocks are empty vectors: no span
+    for (const std::vector<double>* v : {&k.x, &k.orientation, &k.v, &k.omega, &k.a, &k.omega_dot})
+      append_span(out, v->data(), 8 * v->size());
+  }
+}
+
+// Copies the pieces into out (size bytes), back to back (pads zero); returns the bytes written.
+std::size_t gather(const std::vector<WireSpan>& spans, std::uint8_t* out, std::size_t size) {
+  std::size_t off = 0;
+  for (const WireSpan& s : spans) {
+    if (s.size > size - off) throw std::logic_error("gather: the layout exceeds the message size");
+    if (s.data)
+      std::memcpy(out + off, s.data, s.size);
+    else
+      std::memset(out + off, 0, s.size);
+    off += s.size;
+  }
+  return off;
 }
 
 }  // namespace
@@ -187,6 +182,60 @@ Kinematics decode_kinematics(const NodalConfig& config, Command command,
   return k;
 }
 
+void kinematics_wire_spans(const NodalConfig& config, Kinematics& k, std::vector<WireSpan>& out) {
+  const std::size_t n = config.num_points;
+  const std::size_t nr = config.rotation_doubles();
+  const bool rot = config.has_rotation();
+  const bool acc = config.accelerations;
+  // k's vectors keep their capacity from message to message (no allocation, no zero fill); the
+  // fields this layout lacks are emptied, as in a fresh Kinematics.
+  k.rotation = config.rotation;
+  k.has_reference = config.reference_node;
+  k.reference = ReferenceKinematics{};
+  k.labels.resize(config.labels ? n : 0);
+  k.x.resize(3 * n);
+  k.orientation.resize(rot ? nr * n : 0);
+  k.v.resize(3 * n);
+  k.omega.resize(rot ? 3 * n : 0);
+  k.a.resize(acc ? 3 * n : 0);
+  k.omega_dot.resize(acc && rot ? 3 * n : 0);
+  kinematics_spans(config, k, out);
+}
+
+void validate_kinematics(const NodalConfig& config, const Kinematics& k) {
+  const std::size_t n = config.num_points;
+  const std::size_t nr = config.rotation_doubles();
+  const bool rot = config.has_rotation();
+  const bool acc = config.accelerations;
+  if (config.reference_node) {
+    const ReferenceKinematics& ref = k.reference;
+    const std::uint32_t* lab = config.labels ? &ref.label : nullptr;
+    require_finite(ref.x.data(), 3, 1, "reference x", lab);
+    require_finite(ref.orientation.data(), nr, 1, "reference orientation", lab);
+    require_finite(ref.v.data(), 3, 1, "reference v", lab);
+    require_finite(ref.omega.data(), 3, 1, "reference omega", lab);
+    require_finite(ref.a.data(), 3, 1, "reference a", lab);
+    require_finite(ref.omega_dot.data(), 3, 1, "reference omega_dot", lab);
+  }
+  if (n > 0) {
+    const std::uint32_t* lab = config.labels ? k.labels.data() : nullptr;
+    require_finite(k.x.data(), 3, n, "x", lab);
+    require_finite(k.orientation.data(), nr, rot ? n : 0, "orientation", lab);
+    require_finite(k.v.data(), 3, n, "v", lab);
+    require_finite(k.omega.data(), 3, rot ? n : 0, "omega", lab);
+    require_finite(k.a.data(), 3, acc ? n : 0, "a", lab);
+    require_finite(k.omega_dot.data(), 3, (acc && rot) ? n : 0, "omega_dot", lab);
+  }
+}
+
+void write_kinematics_payload(const NodalConfig& config, const Kinematics& k, std::uint8_t* out) {
+  thread_local std::vector<WireSpan> spans;  // kept: no allocation per message
+  kinematics_spans(config, k, spans);
+  const std::size_t size = config.kinematics_payload_bytes();
+  if (gather(spans, out, size) != size)
+    throw std::logic_error("write_kinematics_payload: layout and size disagree");
+}
+
 void decode_kinematics_into(const NodalConfig& config, Command command, const std::uint8_t* payload,
                             std::size_t size, Kinematics& k) {
   const std::size_t expected = config.kinematics_payload_bytes();
@@ -196,66 +245,18 @@ void decode_kinematics_into(const NodalConfig& config, Command command, const st
         << config.describe() << ", received " << size << " bytes";
     throw MalformedMessageError(msg.str());
   }
-  const std::size_t n = config.num_points;
-  const std::size_t nr = config.rotation_doubles();
-  const bool rot = config.has_rotation();
-  const bool acc = config.accelerations;
-
-  // k's vectors keep their capacity from message to message (no allocation, no zero fill); the
-  // fields this layout lacks are emptied, as in a fresh Kinematics.
   k.command = command;
-  k.rotation = config.rotation;
-  k.has_reference = config.reference_node;
-  k.reference = ReferenceKinematics{};
-  if (!config.labels) k.labels.clear();
-  PayloadReader r(payload, size);
-
-  if (config.reference_node) {
-    ReferenceKinematics& ref = k.reference;
-    if (config.labels) {
-      ref.label = r.u32();
-      r.skip(4);  // pad, ignored on receipt (spec §2)
-    }
-    r.doubles(ref.x.data(), 3);
-    if (rot) r.doubles(ref.orientation.data(), nr);
-    r.doubles(ref.v.data(), 3);
-    if (rot) r.doubles(ref.omega.data(), 3);
-    if (acc) r.doubles(ref.a.data(), 3);
-    if (acc && rot) r.doubles(ref.omega_dot.data(), 3);
-    const std::vector<std::uint32_t> no_labels;
-    const std::vector<std::uint32_t> ref_labels{ref.label};
-    const auto& lab = config.labels ? ref_labels : no_labels;
-    require_finite(ref.x.data(), 3, 1, "reference x", lab);
-    require_finite(ref.orientation.data(), nr, 1, "reference orientation", lab);
-    require_finite(ref.v.data(), 3, 1, "reference v", lab);
-    require_finite(ref.omega.data(), 3, 1, "reference omega", lab);
-    require_finite(ref.a.data(), 3, 1, "reference a", lab);
-    require_finite(ref.omega_dot.data(), 3, 1, "reference omega_dot", lab);
+  thread_local std::vector<WireSpan> spans;  // kept: no allocation per message
+  kinematics_wire_spans(config, k, spans);
+  std::size_t off = 0;
+  for (const WireSpan& s : spans) {
+    // the size was checked above; this guards the layout itself
+    if (s.size > size - off) throw std::logic_error("decode_kinematics: read past the checked size");
+    if (s.data) std::memcpy(s.data, payload + off, s.size);
+    off += s.size;
   }
-
-  if (n > 0) {
-    if (config.labels) {
-      k.labels.resize(n);
-      for (auto& l : k.labels) l = r.u32();
-      if (n % 2) r.skip(4);
-    }
-    read_vectors(r, k.x, 3, n, true);
-    read_vectors(r, k.orientation, nr, n, rot);
-    read_vectors(r, k.v, 3, n, true);
-    read_vectors(r, k.omega, 3, n, rot);
-    read_vectors(r, k.a, 3, n, acc);
-    read_vectors(r, k.omega_dot, 3, n, acc && rot);
-    require_finite(k.x.data(), 3, n, "x", k.labels);
-    require_finite(k.orientation.data(), nr, rot ? n : 0, "orientation", k.labels);
-    require_finite(k.v.data(), 3, n, "v", k.labels);
-    require_finite(k.omega.data(), 3, rot ? n : 0, "omega", k.labels);
-    require_finite(k.a.data(), 3, acc ? n : 0, "a", k.labels);
-    require_finite(k.omega_dot.data(), 3, (acc && rot) ? n : 0, "omega_dot", k.labels);
-  } else {  // no points: empty, as in a fresh Kinematics
-    k.labels.clear();
-    for (std::vector<double>* v : {&k.x, &k.orientation, &k.v, &k.omega, &k.a, &k.omega_dot}) v->clear();
-  }
-  if (r.offset() != size) throw std::logic_error("decode_kinematics: layout and size disagree");
+  if (off != size) throw std::logic_error("decode_kinematics: layout and size disagree");
+  validate_kinematics(config, k);
 }
 
 Kinematics decode_kinematics_message(const NodalConfig& config, const std::uint8_t* bytes,
@@ -276,8 +277,10 @@ std::vector<std::uint8_t> encode_loads(const NodalConfig& config, Command comman
   return out;
 }
 
-void encode_loads_into(const NodalConfig& config, Command command, const Loads& loads,
-                       std::vector<std::uint8_t>& out) {
+namespace {
+// encode_loads' checks: a command that carries loads, sizes matching config, finite values.
+void check_loads(const NodalConfig& config, Command command, const Loads& loads,
+                 const std::vector<std::uint32_t>& labels) {
   if (command != Command::RegularData && command != Command::RegularDataAndGotoNextStep)
     throw std::invalid_argument("encode_loads: a payload follows only commands 2 and 6, not " +
                                 command_name(static_cast<std::uint8_t>(command)));
@@ -291,7 +294,7 @@ void encode_loads_into(const NodalConfig& config, Command command, const Loads& 
   };
   if (loads.force.size() != 3 * n) size_error("force", loads.force.size(), 3 * n);
   if (rot && loads.moment.size() != 3 * n) size_error("moment", loads.moment.size(), 3 * n);
-  if (config.labels && loads.labels.size() != n) size_error("labels", loads.labels.size(), n);
+  if (config.labels && labels.size() != n) size_error("labels", labels.size(), n);
   auto check_finite = [](const double* v, std::size_t count, const char* what) {
     if (all_finite(v, count)) return;
     for (std::size_t i = 0; i < count; ++i)
@@ -308,28 +311,43 @@ void encode_loads_into(const NodalConfig& config, Command command, const Loads& 
     check_finite(loads.reference_force.data(), 3, "reference force");
     if (rot) check_finite(loads.reference_moment.data(), 3, "reference moment");
   }
+}
+}  // namespace
 
-  out.resize(1 + config.loads_payload_bytes());  // every byte is written below
-  PayloadWriter w(out);
-  w.u8(static_cast<std::uint8_t>(command));
+void loads_wire_spans(const NodalConfig& config, const std::uint8_t* command_byte, const Loads& loads,
+                      const std::vector<std::uint32_t>& labels, const std::uint32_t* reference_label,
+                      std::vector<WireSpan>& out) {
+  check_loads(config, static_cast<Command>(*command_byte), loads, labels);
+  const std::size_t n = config.num_points;
+  const bool rot = config.has_rotation();
+  out.clear();
+  append_span(out, command_byte, 1);
   if (config.reference_node) {
     // The record is always sent, even with `use reference node forces, no` (spec §4.2).
     if (config.labels) {
-      w.u32(loads.reference_label);
-      w.u32(0);
+      append_span(out, reference_label, 4);
+      append_pad(out, 4);
     }
-    w.doubles(loads.reference_force.data(), 3);
-    if (rot) w.doubles(loads.reference_moment.data(), 3);
+    append_span(out, loads.reference_force.data(), 24);
+    if (rot) append_span(out, loads.reference_moment.data(), 24);
   }
   if (n > 0) {
     if (config.labels) {
-      for (std::uint32_t l : loads.labels) w.u32(l);
-      if (n % 2) w.u32(0);
+      append_span(out, labels.data(), 4 * n);
+      if (n % 2) append_pad(out, 4);
     }
-    w.doubles(loads.force.data(), 3 * n);
-    if (rot) w.doubles(loads.moment.data(), 3 * n);
+    append_span(out, loads.force.data(), 24 * n);
+    if (rot) append_span(out, loads.moment.data(), 24 * n);
   }
-  if (w.offset() != out.size()) throw std::logic_error("encode_loads: layout and size disagree");
+}
+
+void encode_loads_into(const NodalConfig& config, Command command, const Loads& loads,
+                       std::vector<std::uint8_t>& out) {
+  const std::uint8_t cmd = static_cast<std::uint8_t>(command);
+  thread_local std::vector<WireSpan> spans;  // kept: no allocation per message
+  loads_wire_spans(config, &cmd, loads, loads.labels, &loads.reference_label, spans);
+  out.resize(1 + config.loads_payload_bytes());  // every byte is written below
+  if (gather(spans, out.data(), out.size()) != out.size()) throw std::logic_error("encode_loads: layout and size disagree");
 }
 
 }  // namespace dembridge::mbdyn

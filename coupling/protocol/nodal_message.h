@@ -66,6 +66,27 @@ struct Loads {
   void set_moment(std::size_t i, const Vec3& m);
 };
 
+// One piece of a payload's wire layout: size bytes at data, the pieces back to back (spec §2).
+// data == nullptr is a pad: ignored on receipt, zero when sent. A transport reads a message
+// straight into such pieces (one recvmsg) and sends one from them (one sendmsg): no byte
+// buffer and no copy between the socket and the arrays.
+struct WireSpan {
+  void* data;
+  std::size_t size;
+};
+
+// The kinematics payload as pieces of k's own storage. k is first shaped for config: its vectors
+// sized (capacity kept: no allocation after the first message), absent fields emptied, the
+// reference record zeroed, as decode_kinematics leaves them. k.command is left to the caller.
+// Reading the payload into the pieces, then validate_kinematics, is decode_kinematics_into.
+void kinematics_wire_spans(const NodalConfig& config, Kinematics& k, std::vector<WireSpan>& out);
+// The checks of a decoded payload: every value finite; throws MalformedMessageError naming the
+// field, point and label of the first that is not.
+void validate_kinematics(const NodalConfig& config, const Kinematics& k);
+// k's payload as MBDyn sent it (config.kinematics_payload_bytes() bytes into out): MPI ranks
+// broadcast these bytes and decode them themselves (spec P5).
+void write_kinematics_payload(const NodalConfig& config, const Kinematics& k, std::uint8_t* out);
+
 // Decodes a kinematics payload (the bytes after the command byte). Throws MalformedMessageError
 // if the size differs from config.kinematics_payload_bytes() or a value is not finite (naming the
 // field, point and label).
@@ -84,9 +105,16 @@ Kinematics decode_kinematics_message(const NodalConfig& config, const std::uint8
 // MalformedMessageError on non-finite loads.
 std::vector<std::uint8_t> encode_loads(const NodalConfig& config, Command command,
                                        const Loads& loads);
-// The same into out (resized to the message, its capacity kept: the per-message path of the session).
+// The same into out (resized to the message, its capacity kept).
 void encode_loads_into(const NodalConfig& config, Command command, const Loads& loads,
                        std::vector<std::uint8_t>& out);
+// The whole loads message (command byte, then payload) as pieces of the caller's storage, after
+// encode_loads' checks (same errors): *command_byte must hold the command and outlive the send.
+// labels and reference_label are what the message carries (with labels: MBDyn's own, echoed,
+// spec P10); they are read only with config.labels. The per-message path of the session.
+void loads_wire_spans(const NodalConfig& config, const std::uint8_t* command_byte, const Loads& loads,
+                      const std::vector<std::uint32_t>& labels, const std::uint32_t* reference_label,
+                      std::vector<WireSpan>& out);
 
 // Orientation conversions used by Kinematics::rotation_matrix (spec §4.3).
 // Wire: R11 R21 R31 R12 R22 R32 R13 R23 R33 (spec §2, verified). Inline: it runs per point and message.

@@ -11,13 +11,16 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 
 #include "deadline.h"
+#include "nodal_message.h"
 #include "protocol_error.h"
 #include "socket_address.h"
 
@@ -58,6 +61,43 @@ bool wait_for(int fd, short events, const Deadline& deadline) {
   }
 }
 
+// A message's pieces as the iovecs of one recvmsg/sendmsg, consumed from the front as bytes move
+// (a partial transfer goes on where it stopped). Fixed storage: no allocation per message.
+class IoList {
+ public:
+  // n bytes at p; pads (p == nullptr) use the caller's scratch of at most 8 bytes.
+  void add(void* p, std::size_t n, void* pad_scratch) {
+    if (n == 0) return;
+    if (!p && n > 8) throw std::logic_error("IoList: a pad longer than 8 bytes");
+    if (count_ == v_.size()) throw std::logic_error("IoList: more pieces than a layout has");
+    v_[count_++] = iovec{p ? p : pad_scratch, n};
+    bytes_ += n;
+  }
+  std::size_t bytes() const { return bytes_; }
+  void advance(std::size_t n) {
+    while (n > 0 && first_ < count_) {
+      iovec& f = v_[first_];
+      if (n < f.iov_len) {
+        f.iov_base = static_cast<std::uint8_t*>(f.iov_base) + n;
+        f.iov_len -= n;
+        return;
+      }
+      n -= f.iov_len;
+      ++first_;
+    }
+  }
+  msghdr header() {
+    msghdr m{};
+    m.msg_iov = v_.data() + first_;
+    m.msg_iovlen = count_ - first_;
+    return m;
+  }
+
+ private:
+  std::array<iovec, 24> v_{};  // a layout has at most 17 pieces (spec §4: all optional blocks)
+  std::size_t first_ = 0, count_ = 0, bytes_ = 0;
+};
+
 bool is_retryable_connect_error(int err) {
   // The socket does not exist yet, nobody listens yet, or MBDyn's backlog of 1 is full.
   return err == ENOENT || err == ECONNREFUSED || err == EAGAIN || err == ECONNRESET;
@@ -94,8 +134,15 @@ SocketTransport::SocketTransport(int fd, bool tcp, std::string description)
 }
 
 SocketTransport::SocketTransport(SocketTransport&& o) noexcept
-    : fd_(o.fd_), tcp_(o.tcp_), description_(std::move(o.description_)), recv_timeout_s_(o.recv_timeout_s_) {
+    : fd_(o.fd_),
+      tcp_(o.tcp_),
+      description_(std::move(o.description_)),
+      recv_timeout_s_(o.recv_timeout_s_),
+      deferring_(o.deferring_),
+      deferred_(o.deferred_),
+      drain_(std::move(o.drain_)) {
   o.fd_ = -1;
+  o.deferred_ = 0;
 }
 
 SocketTransport& SocketTransport::operator=(SocketTransport&& o) noexcept {
@@ -105,7 +152,11 @@ SocketTransport& SocketTransport::operator=(SocketTransport&& o) noexcept {
     tcp_ = o.tcp_;
     description_ = std::move(o.description_);
     recv_timeout_s_ = o.recv_timeout_s_;
+    deferring_ = o.deferring_;
+    deferred_ = o.deferred_;
+    drain_ = std::move(o.drain_);
     o.fd_ = -1;
+    o.deferred_ = 0;
   }
   return *this;
 }
@@ -113,8 +164,37 @@ SocketTransport& SocketTransport::operator=(SocketTransport&& o) noexcept {
 SocketTransport::~SocketTransport() { close(); }
 
 void SocketTransport::close() noexcept {
+  // Unread bytes at close would make the peer's next read fail with ECONNRESET instead of EOF.
+  try {
+    if (fd_ >= 0) consume_deferred();
+  } catch (...) {
+  }
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;
+  deferred_ = 0;
+}
+
+bool SocketTransport::defer_consumption() {
+  if (fd_ < 0 || tcp_) return false;
+  int zero = 0;  // peeks start at offset 0 and move on by what they read
+  deferring_ = ::setsockopt(fd_, SOL_SOCKET, SO_PEEK_OFF, &zero, sizeof zero) == 0;
+  return deferring_;
+}
+
+void SocketTransport::consume_deferred() {
+  while (deferred_ > 0) {
+    if (drain_.empty()) drain_.resize(kDeferredBytes);
+    const ssize_t rc = ::recv(fd_, drain_.data(), std::min(deferred_, drain_.size()), MSG_DONTWAIT);
+    if (rc > 0) {
+      deferred_ -= static_cast<std::size_t>(rc);
+      continue;
+    }
+    if (rc < 0 && errno == EINTR) continue;
+    const int err = rc < 0 ? errno : 0;
+    deferred_ = 0;  // the peeked bytes were queued: only a reset takes them away
+    throw SystemError("recv() of already received bytes from " + description_ + ": " +
+                      (rc == 0 ? std::string("end of stream") : errno_text(err)));
+  }
 }
 
 SocketTransport SocketTransport::connect(const Endpoint& endpoint, double timeout_s) {
@@ -201,6 +281,7 @@ void SocketTransport::io_failed(long rc, int err, short events, const Deadline& 
 
 void SocketTransport::read_exact(void* buffer, std::size_t n, double timeout_s, const std::string& what) {
   if (fd_ < 0) throw PeerClosedError("reading " + what + ": the connection to MBDyn is closed");
+  consume_deferred();  // these bytes come after them
   const Deadline deadline(timeout_s);
   auto* p = static_cast<std::uint8_t*>(buffer);
   std::size_t got = 0;
@@ -232,27 +313,59 @@ bool SocketTransport::set_receive_timeout(double timeout_s) {
 void SocketTransport::read_message(std::uint8_t& cmd, void* payload, std::size_t n,
                                    bool (*payload_follows)(std::uint8_t), double timeout_s,
                                    const std::string& what_command, const std::string& what_payload) {
+  const WireSpan whole{payload, n};
+  read_message(cmd, &whole, 1, payload_follows, timeout_s, what_command, what_payload);
+}
+
+void SocketTransport::read_message(std::uint8_t& cmd, const WireSpan* payload, std::size_t count,
+                                   bool (*payload_follows)(std::uint8_t), double timeout_s,
+                                   const std::string& what_command, const std::string& what_payload) {
   if (fd_ < 0) throw PeerClosedError("reading " + what_command + ": the connection to MBDyn is closed");
   const Deadline deadline(timeout_s);
-  auto* p = static_cast<std::uint8_t*>(payload);
-  iovec v[2] = {{&cmd, 1}, {p, n}};
-  msghdr m{};
-  m.msg_iov = v;
-  m.msg_iovlen = 2;
+  std::uint8_t pad[8];  // the wire's pads land here (ignored on receipt, spec §2)
+  IoList io;
+  io.add(&cmd, 1, pad);
+  for (std::size_t i = 0; i < count; ++i) io.add(payload[i].data, payload[i].size, pad);
+  const std::size_t n = io.bytes() - 1;  // payload bytes
   // Fast path, one system call: a recvmsg for command and payload that blocks in the kernel, bounded
   // by SO_RCVTIMEO = the whole message's timeout (spec P4), instead of poll + recv (+ TCP_QUICKACK).
   // MBDyn's message usually arrives whole (or is already there). Without a quick ack first, a split
   // write (MBDyn's command byte, its payload held back by Nagle until our ACK, spec P3) returns the
   // byte at once, and the loop below acks before it waits for the rest.
-  ssize_t rc = ::recvmsg(fd_, &m, set_receive_timeout(timeout_s) ? 0 : MSG_DONTWAIT);
+  msghdr m = io.header();
+  ssize_t rc;
   std::size_t got = 0;  // payload bytes, once the command byte is in
   bool have_cmd = false;
-  if (rc > 0) {
-    have_cmd = true;
-    got = static_cast<std::size_t>(rc) - 1;
-    if (!payload_follows(cmd) || got == n) return;
-  } else if (rc == 0 || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
-    io_failed(rc, errno, POLLIN, deadline, timeout_s, what_command, 0, 1);  // throws
+  if (deferring_) {
+    // Unix: a message already here whole is only peeked (see defer_consumption).
+    rc = ::recvmsg(fd_, &m, MSG_PEEK | MSG_DONTWAIT);
+    if (rc > 0) {
+      have_cmd = true;
+      got = static_cast<std::size_t>(rc) - 1;
+      io.advance(static_cast<std::size_t>(rc));
+      if (!payload_follows(cmd) || got == n) {
+        deferred_ += static_cast<std::size_t>(rc);
+        if (deferred_ >= kDeferredBytes) consume_deferred();
+        return;
+      }
+      deferred_ += static_cast<std::size_t>(rc);  // in the arrays already: consumed below with the rest
+    } else if (rc == 0 || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
+      io_failed(rc, errno, POLLIN, deadline, timeout_s, what_command, 0, 1);  // throws
+    }
+    // Not all here: MBDyn is still writing or computing, not asleep in recv. Consuming now wakes
+    // nobody for nothing; the rest is read (and consumed) as below.
+    consume_deferred();
+  }
+  if (!have_cmd) {
+    rc = ::recvmsg(fd_, &m, set_receive_timeout(timeout_s) ? 0 : MSG_DONTWAIT);
+    if (rc > 0) {
+      have_cmd = true;
+      got = static_cast<std::size_t>(rc) - 1;
+      if (!payload_follows(cmd) || got == n) return;
+      io.advance(static_cast<std::size_t>(rc));
+    } else if (rc == 0 || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
+      io_failed(rc, errno, POLLIN, deadline, timeout_s, what_command, 0, 1);  // throws
+    }
   }
   while (!have_cmd || got < n) {
     quick_ack();
@@ -260,26 +373,46 @@ void SocketTransport::read_message(std::uint8_t& cmd, void* payload, std::size_t
       wait_ready(POLLIN, deadline, timeout_s, what_payload, got, n);
     else
       wait_ready(POLLIN, deadline, timeout_s, what_command, 0, 1);
-    if (!have_cmd) {
-      rc = ::recvmsg(fd_, &m, MSG_DONTWAIT);
-      if (rc > 0) {
-        have_cmd = true;
-        got = static_cast<std::size_t>(rc) - 1;
-        if (!payload_follows(cmd)) return;
-        continue;
-      }
-    } else {
-      rc = ::recv(fd_, p + got, n - got, MSG_DONTWAIT);
-      if (rc > 0) {
+    m = io.header();
+    rc = ::recvmsg(fd_, &m, MSG_DONTWAIT);
+    if (rc > 0) {
+      io.advance(static_cast<std::size_t>(rc));
+      if (have_cmd) {
         got += static_cast<std::size_t>(rc);
         continue;
       }
+      have_cmd = true;
+      got = static_cast<std::size_t>(rc) - 1;
+      if (!payload_follows(cmd)) return;
+      continue;
     }
     const int err = errno;
     if (have_cmd)
       io_failed(rc, err, POLLIN, deadline, timeout_s, what_payload, got, n);
     else
       io_failed(rc, err, POLLIN, deadline, timeout_s, what_command, 0, 1);
+  }
+}
+
+void SocketTransport::write_message(const WireSpan* pieces, std::size_t count, double timeout_s,
+                                    const std::string& what) {
+  if (fd_ < 0) throw PeerClosedError("writing " + what + ": the connection to MBDyn is closed");
+  const Deadline deadline(timeout_s);
+  std::uint8_t zeros[8] = {};  // the wire's pads (spec §2)
+  IoList io;
+  for (std::size_t i = 0; i < count; ++i) io.add(pieces[i].data, pieces[i].size, zeros);
+  const std::size_t n = io.bytes();
+  std::size_t sent = 0;
+  while (sent < n) {
+    // MSG_NOSIGNAL: a dead MBDyn must give an error, not kill LAMMPS with SIGPIPE.
+    msghdr m = io.header();
+    const ssize_t rc = ::sendmsg(fd_, &m, MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (rc >= 0) {
+      sent += static_cast<std::size_t>(rc);
+      io.advance(static_cast<std::size_t>(rc));
+      continue;
+    }
+    io_failed(rc, errno, POLLOUT, deadline, timeout_s, what, sent, n);
   }
 }
 

@@ -7,10 +7,12 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace dembridge::mbdyn {
 
 class Deadline;
+struct WireSpan;
 
 // Where the MBDyn socket lives: `path, "<file>"` or `port, <n> [, host, "<h>"]`.
 struct Endpoint {
@@ -50,9 +52,28 @@ class SocketTransport {
   // error). Errors as read_exact, naming what_command or what_payload.
   void read_message(std::uint8_t& cmd, void* payload, std::size_t n, bool (*payload_follows)(std::uint8_t),
                     double timeout_s, const std::string& what_command, const std::string& what_payload);
+  // The same with the payload scattered over count pieces (nullptr pieces: pads, dropped): a
+  // message is read straight into the arrays it decodes to, with no copy.
+  void read_message(std::uint8_t& cmd, const WireSpan* payload, std::size_t count,
+                    bool (*payload_follows)(std::uint8_t), double timeout_s, const std::string& what_command,
+                    const std::string& what_payload);
   // Writes n bytes with a single send() when the kernel takes them (always for small messages);
   // loops only on a partial send. Throws TimeoutError or PeerClosedError.
   void write_all(const void* buffer, std::size_t n, double timeout_s, const std::string& what);
+  // Writes one message gathered from count pieces (nullptr pieces: zero pads) with a single
+  // sendmsg, as write_all does with one buffer (spec P2: the peer sees one write).
+  void write_message(const WireSpan* pieces, std::size_t count, double timeout_s, const std::string& what);
+  // Unix sockets (issue 12, P5): read_message then reads a whole message with MSG_PEEK and
+  // consumes the bytes later, kDeferredBytes at a time or as soon as a message is not all there
+  // yet. Consuming the peer's bytes frees its send buffer, and Linux then wakes the peer if it
+  // sleeps in recv (AF_UNIX write-space wake-up, unconditional for a blocked reader). MBDyn
+  // sleeps in recv waiting for our answer whenever its message is already here, so every receive
+  // woke it once for nothing (and on a busy machine switched to it). Deferred, the wake comes once
+  // per kDeferredBytes, or not at all while MBDyn is still writing or computing. Every other read
+  // and close() consume the deferred bytes first. False (nothing changes) for TCP, whose receive
+  // wakes nobody, or when the kernel lacks SO_PEEK_OFF.
+  bool defer_consumption();
+  static constexpr std::size_t kDeferredBytes = 64 * 1024;
   // Best effort for clean aborts: tries to write one byte within timeout_s, never throws.
   bool try_write_byte(std::uint8_t byte, double timeout_s) noexcept;
 
@@ -76,10 +97,15 @@ class SocketTransport {
   // Sets SO_RCVTIMEO to timeout_s (< 0: forever) unless it is set already; false when a blocking
   // recv cannot honour the timeout (0 s), so the caller must not block.
   bool set_receive_timeout(double timeout_s);
+  // Consumes the deferred bytes (they are queued: recv without waiting); throws on a socket error.
+  void consume_deferred();
   int fd_ = -1;
   bool tcp_ = false;
   std::string description_;
   double recv_timeout_s_ = 0.0;  // SO_RCVTIMEO as last set; 0: not set
+  bool deferring_ = false;            // defer_consumption() is on
+  std::size_t deferred_ = 0;          // bytes read with MSG_PEEK, not consumed yet
+  std::vector<std::uint8_t> drain_;   // where consumed bytes go
 };
 
 // MBDyn `create, no`: the peer listens and MBDyn connects while it parses its input (spec §1).

@@ -1,4 +1,5 @@
 #include "compute_pair_gran_local.h"
+#include "rank_error.h"
 
 #include "fix_contact_history.h"
 #include "pair_gran.h"
@@ -130,7 +131,7 @@ void ComputePairGranLocal::compute_local()
   if (!list) error->all(FLERR, me + ": the pair style has no neighbour list yet; the compute can only be used during a run");
   FixContactHistory *history = nhist_ > 0 ? pair->history() : nullptr;
   if (nhist_ > 0 && (!history || !history->list_valid()))
-    error->one(FLERR, me + ": the contact history of pair style '" + std::string(force->pair_style) +
+    fail_on_this_rank(lmp, FLERR, me + ": the contact history of pair style '" + std::string(force->pair_style) +
                           "' is not aligned with the neighbour list at this point; use the compute only during a run "
                           "(dump local, fix ave/histo, ...)");
 
@@ -179,7 +180,7 @@ void ComputePairGranLocal::compute_local()
       }
       const int itype = type[i], jtype = type[j];
       if (itype > max_type || jtype > max_type)
-        error->one(FLERR, me + ": atom type " + std::to_string(std::max(itype, jtype)) +
+        fail_on_this_rank(lmp, FLERR, me + ": atom type " + std::to_string(std::max(itype, jtype)) +
                               " is not covered by the material table of the pair style (types up to " +
                               std::to_string(max_type) + ")");
       // Evaluate from the side of the smaller tag, so the row does not depend on which atom's

@@ -1,4 +1,5 @@
 #include "pair_gran.h"
+#include "rank_error.h"
 #include "pair_gran_contacts.h"
 
 #include "fix_contact_history.h"
@@ -307,7 +308,7 @@ gran::PairLoopData PairGran::loop_data() const
 void PairGran::loop_failed(const gran::PairLoopError &e)
 {
   if (e.kind == gran::PairLoopError::TypeAfterInit)
-    error->one(FLERR, "pair_style " + style_name_ + ": atom type " + std::to_string(atom->type[e.i]) +
+    fail_on_this_rank(lmp, FLERR, "pair_style " + style_name_ + ": atom type " + std::to_string(atom->type[e.i]) +
                           " appeared after init; the material table only covers types up to " + std::to_string(table_.max_type()));
   degenerate_contact(e.i, e.j, e.kind == gran::PairLoopError::Coincident);
 }
@@ -315,7 +316,7 @@ void PairGran::loop_failed(const gran::PairLoopError &e)
 void PairGran::begin_contacts()
 {
   if (history_ && !history_->list_valid())
-    error->one(FLERR, "pair_style " + style_name_ + ": contact history is not aligned with the neighbour list (internal error)");
+    fail_on_this_rank(lmp, FLERR, "pair_style " + style_name_ + ": contact history is not aligned with the neighbour list (internal error)");
   // fix rigid: body masses of owned and ghost atoms, refreshed when the ghosts change
   if (fix_rigid_ && neighbor->ago == 0) update_rigid_masses();
 }
@@ -363,9 +364,9 @@ void PairGran::degenerate_contact(int i, int j, bool coincident)
       fmt::format("atom {} at ({:.17g} {:.17g} {:.17g}) and atom {} at ({:.17g} {:.17g} {:.17g})", atom->tag[i], xi[0], xi[1],
                   xi[2], atom->tag[j], xj[0], xj[1], xj[2]);
   if (coincident)
-    error->one(FLERR, p + " are coincident (centre distance below 1e-12 of the radius sum, or not finite): the contact "
+    fail_on_this_rank(lmp, FLERR, p + " are coincident (centre distance below 1e-12 of the radius sum, or not finite): the contact "
                           "normal is undefined; remove or move one of them (e.g. delete_atoms overlap)");
-  error->one(FLERR, p + fmt::format(" have no finite effective mass (masses {} and {}); give them a positive mass", atom->rmass[i],
+  fail_on_this_rank(lmp, FLERR, p + fmt::format(" have no finite effective mass (masses {} and {}); give them a positive mass", atom->rmass[i],
                                     atom->rmass[j]));
 }
 

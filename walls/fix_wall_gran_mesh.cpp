@@ -1,5 +1,6 @@
 // fix wall/gran ... mesh: the particle-triangle pass of spec liggghts-walls §4.5 on the meshes of
 // fix mesh/surface (candidates, closest points, wall velocity, stress sums come from that fix).
+#include "rank_error.h"
 #include "fix_wall_gran.h"
 
 #include "fix_mesh_surface.h"
@@ -71,7 +72,7 @@ void FixWallGran::mesh_pass(bool update_history)
             if (skip) continue;
           }
           if (records_.count(i) >= cap)
-            error->one(FLERR, cmd_ + ": atom " + std::to_string(atom->tag[i]) + " touches more than " + std::to_string(cap) +
+            fail_on_this_rank(lmp, FLERR, cmd_ + ": atom " + std::to_string(atom->tag[i]) + " touches more than " + std::to_string(cap) +
                                   " mesh triangles at once (mesh contact history overflow)");
           records_.append(i, key);
           slot = records_.count(i) - 1;

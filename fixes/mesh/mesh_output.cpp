@@ -1,4 +1,5 @@
 #include "mesh_output.h"
+#include "rank_error.h"
 
 #include "fix_mesh_surface.h"
 
@@ -41,11 +42,11 @@ void write_mesh_frame(LAMMPS *lmp, const MeshOutput &out)
   if (const auto star = name.find('*'); star != std::string::npos)
     name.replace(star, 1, std::to_string(lmp->update->ntimestep));
   std::ofstream os(name, std::ios::out | std::ios::binary);
-  if (!os) lmp->error->one(FLERR, out.caller + ": cannot open '" + name + "' for writing");
+  if (!os) fail_on_this_rank(lmp, FLERR, out.caller + ": cannot open '" + name + "' for writing");
   if (out.vtk) mesh::write_vtk(os, frames, "dembridge mesh", w);
   else if (out.binary_stl) mesh::write_stl_binary(os, frames);
   else mesh::write_stl(os, frames);
-  if (!os) lmp->error->one(FLERR, out.caller + ": error writing '" + name + "'");
+  if (!os) fail_on_this_rank(lmp, FLERR, out.caller + ": error writing '" + name + "'");
 }
 
 }  // namespace dembridge

@@ -1,4 +1,5 @@
 // fix parmec/granular: see fix_parmec_granular.h and doc/fix_parmec_granular.md.
+#include "rank_error.h"
 #include "fix_parmec_granular.h"
 
 #include "style_registry.h"
@@ -362,10 +363,10 @@ void FixParmecGranular::place_bodies(std::vector<int> &skip)
     const int i = atom->map(static_cast<tagint>(bodies_[b].tag()));
     if (i < 0 || i >= atom->nlocal) continue;
     if (color_of(i) > 0)
-      error->one(FLERR, fmt::format("{}: mesh {}: the atom of a MESH body must have colour <= 0 (it has no sphere "
+      fail_on_this_rank(lmp, FLERR, fmt::format("{}: mesh {}: the atom of a MESH body must have colour <= 0 (it has no sphere "
                                     "shape), got {}", cmd_, bodies_[b].tag(), color_of(i)));
     if (!(atom->mask[i] & rigid_->groupbit))
-      error->one(FLERR, fmt::format("{}: mesh {}: the body atom is not in the group of fix {} parmec/rigid (its "
+      fail_on_this_rank(lmp, FLERR, fmt::format("{}: mesh {}: the body atom is not in the group of fix {} parmec/rigid (its "
                                     "rotation places the surface)", cmd_, bodies_[b].tag(), rigid_->id));
     skip[i] = 1;
     pc::BodyPose pose;

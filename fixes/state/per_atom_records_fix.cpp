@@ -1,4 +1,5 @@
 #include "per_atom_records_fix.h"
+#include "rank_error.h"
 
 #include "atom.h"
 #include "error.h"
@@ -20,7 +21,7 @@ void PerAtomRecordsFix::set_records_per_atom(int most)
 
 void PerAtomRecordsFix::restart_mismatch(int i)
 {
-  error->one(FLERR, fmt::format("{}: the restart file's data for atom {} are not whole records of {} values (the fix "
+  fail_on_this_rank(lmp, FLERR, fmt::format("{}: the restart file's data for atom {} are not whole records of {} values (the fix "
                                 "had another model, or another dembridge version wrote the file): define the fix as "
                                 "before write_restart", cmd_, atom->tag[i], records_.record_size()));
 }

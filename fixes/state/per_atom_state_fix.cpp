@@ -1,4 +1,5 @@
 #include "per_atom_state_fix.h"
+#include "rank_error.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -78,7 +79,7 @@ std::vector<AtomSnapshot> PerAtomStateFix::snapshot_entity_atoms()
 
 void PerAtomStateFix::second_atom_missing(int key, const char *hint)
 {
-  error->one(FLERR, fmt::format("{}: {}: part2 atom {} is not available to the owner of part1 atom {} (not a ghost, "
+  fail_on_this_rank(lmp, FLERR, fmt::format("{}: {}: part2 atom {} is not available to the owner of part1 atom {} (not a ghost, "
                                 "or lost): raise 'comm_modify cutoff'{}", cmd_, who(key), atoms_[key].second,
                                 atoms_[key].first, hint));
 }
@@ -101,7 +102,7 @@ void PerAtomStateFix::check_restored(int i)
 {
   for (int r = 0; r < records_.count(i); r++)
     if (!restored_record_fits(i, records_.record(i, r)))
-      error->one(FLERR, fmt::format("{}: restart file holds {} states that do not match the definitions (define the "
+      fail_on_this_rank(lmp, FLERR, fmt::format("{}: restart file holds {} states that do not match the definitions (define the "
                                     "same {}s in the same order as before write_restart)", cmd_, noun_, noun_));
 }
 
@@ -115,7 +116,7 @@ int PerAtomStateFix::pack_reverse_comm(int n, int first, double *buf)
 
 void PerAtomStateFix::unpack_reverse_comm(int n, int *list, double *buf)
 {
-  if (!sums_.unpack(n, list, buf)) error->one(FLERR, cmd_ + ": internal error: too many contributions to one atom");
+  if (!sums_.unpack(n, list, buf)) fail_on_this_rank(lmp, FLERR, cmd_ + ": internal error: too many contributions to one atom");
 }
 
 void PerAtomStateFix::reset_sums()
@@ -125,7 +126,7 @@ void PerAtomStateFix::reset_sums()
 
 void PerAtomStateFix::contribution_overflow()
 {
-  error->one(FLERR, cmd_ + ": internal error: too many contributions on one atom");
+  fail_on_this_rank(lmp, FLERR, cmd_ + ": internal error: too many contributions on one atom");
 }
 
 void PerAtomStateFix::collect_sums()
@@ -323,7 +324,7 @@ void HistoryCsv::open(LAMMPS *lmp, const std::string &cmd, const std::string &fi
   sum_.assign(row_.size(), 0.0);
   if (lmp->comm->me != 0) return;
   fp_ = fopen(file.c_str(), "w");
-  if (!fp_) lmp->error->one(FLERR, cmd + ": history: cannot open file '" + file + "' for writing");
+  if (!fp_) fail_on_this_rank(lmp, FLERR, cmd + ": history: cannot open file '" + file + "' for writing");
   fprintf(fp_, "TIME");
   for (long id : ids)
     for (const char *c : columns) fprintf(fp_, ",%s%ld_%s", prefix.c_str(), id, c);

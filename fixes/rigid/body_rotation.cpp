@@ -126,11 +126,12 @@ Mat3 expmap(const Vec3 &theta, bool q3_typo, bool float_taylor)
   const double v02 = q3_typo ? o2 * o3 : o1 * o3;
   const double s0 = sx * o1, s1 = sx * o2, s2 = sx * o3;
   // ISPC contracts the diagonal −c s + 1 of the first two rows (the product has one use; the off-diagonal
-  // products are shared), but not of the third, Lambda9 = −cx (v1 + v0) + 1: fused, spring_chain_critical's
-  // p1 gets Λ(3,3) one ulp below Parmec's at one step of 18 110 body steps (the first difference from Parmec,
-  // row 59), unfused every row of the recorded 10 s is bit for bit. Which contraction LLVM makes is not
-  // visible in the source (see mul_fused_middle); found by replaying the dumped steps with each operation
-  // of the step in the other rounding, this being the only one that changes a single step.
+  // products are shared), but not of the third, Lambda9 = −cx (v1 + v0) + 1. Fused, spring_chain_critical's
+  // p1 gets Λ(3,3) one ulp below Parmec's at step 584 (the two roundings differ at 1 of its first 6 160 body
+  // steps), which that chain amplifies to 3.2e-11; unfused every row of the recorded 10 s is bit for bit.
+  // Which contraction LLVM makes is not visible in the source (see mul_fused_middle); found by replaying the
+  // dumped steps with each operation of the step rounded the other way (doc/parmec_front_end.md). The first
+  // two entries are fused as the source suggests: no oracle case tells (unfused they change no row).
   const double d0 = float_taylor ? std::fma(-cx, v2 + v1, 1.0) : 1.0 - cx * (v2 + v1);
   const double d1 = float_taylor ? std::fma(-cx, v2 + v0, 1.0) : 1.0 - cx * (v2 + v0);
   const double d2 = 1.0 - cx * (v1 + v0);

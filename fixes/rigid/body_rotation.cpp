@@ -36,12 +36,6 @@ double row_fused(double a0, double a1, double a2, double b0, double b1, double b
 {
   return std::fma(a2, b2, std::fma(a0, b0, a1 * b1));
 }
-Vec3 mul_fused(const Mat3 &A, const Vec3 &b)
-{
-  Vec3 r;
-  for (int i = 0; i < 3; i++) r[i] = row_fused(A(i, 0), A(i, 1), A(i, 2), b[0], b[1], b[2]);
-  return r;
-}
 // The same sum with the middle product fused first: fma(a2, b2, fma(a1, b1, a0 b0)). Which of the first two
 // products LLVM contracts depends on the operand order its passes leave in that add, not on the source order;
 // matched step by step against the oracle (a replay of the hung cube's 2000 steps with Parmec's recorded torques
@@ -50,10 +44,12 @@ double row_fused_middle(double a0, double a1, double a2, double b0, double b1, d
 {
   return std::fma(a2, b2, std::fma(a1, b1, a0 * b0));
 }
-Vec3 mul_fused_middle(const Mat3 &A, const Vec3 &b)
+// A b with each row summed by Row (row_fused or row_fused_middle)
+template <double (*Row)(double, double, double, double, double, double)>
+Vec3 mul_rows(const Mat3 &A, const Vec3 &b)
 {
   Vec3 r;
-  for (int i = 0; i < 3; i++) r[i] = row_fused_middle(A(i, 0), A(i, 1), A(i, 2), b[0], b[1], b[2]);
+  for (int i = 0; i < 3; i++) r[i] = Row(A(i, 0), A(i, 1), A(i, 2), b[0], b[1], b[2]);
   return r;
 }
 // Λ exp(hΩ) as dynamics.ispc's build rounds it: columns 0 and 2 row_fused, column 1 row_fused_middle
@@ -129,7 +125,7 @@ Mat3 expmap(const Vec3 &theta, bool q3_typo, bool float_taylor)
   // products are shared), but not of the third, Lambda9 = −cx (v1 + v0) + 1. Fused, spring_chain_critical's
   // p1 gets Λ(3,3) one ulp below Parmec's at step 584 (the two roundings differ at 1 of its first 6 160 body
   // steps), which that chain amplifies to 3.2e-11; unfused every row of the recorded 10 s is bit for bit.
-  // Which contraction LLVM makes is not visible in the source (see mul_fused_middle); found by replaying the
+  // Which contraction LLVM makes is not visible in the source (see row_fused_middle); found by replaying the
   // dumped steps with each operation of the step rounded the other way (doc/parmec_front_end.md). The first
   // two entries are fused as the source suggests: no oracle case tells (unfused they change no row).
   const double d0 = float_taylor ? std::fma(-cx, v2 + v1, 1.0) : 1.0 - cx * (v2 + v1);
@@ -163,16 +159,16 @@ RotationStep rotation_step(const Mat3 &J, const Mat3 &Jinv, const Mat3 &L, const
   if (float_taylor) {  // dynamics.ispc's operations, each product sum fused as its build does
     const double half = 0.5 * h;
     const Vec3 T = tmul_fused(L, torque);
-    const Vec3 JW = mul_fused(J, W);
-    Vec3 B = mul_fused(expmap(Vec3(-half * W[0], -half * W[1], -half * W[2]), q3_typo, true), JW);
+    const Vec3 JW = mul_rows<row_fused>(J, W);
+    Vec3 B = mul_rows<row_fused>(expmap(Vec3(-half * W[0], -half * W[1], -half * W[2]), q3_typo, true), JW);
     for (int c = 0; c < 3; c++) B[c] = std::fma(half, T[c], B[c]);
-    const Vec3 A = mul_fused_middle(Jinv, B);
-    const Vec3 c = cross_fused(A, mul_fused(J, A));
+    const Vec3 A = mul_rows<row_fused_middle>(Jinv, B);
+    const Vec3 c = cross_fused(A, mul_rows<row_fused>(J, A));
     const Vec3 hT(h * (T[0] - c[0]), h * (T[1] - c[1]), h * (T[2] - c[2]));
     RotationStep out;
-    out.W = W + mul_fused(Jinv, hT);
+    out.W = W + mul_rows<row_fused>(Jinv, hT);
     out.L = mul_rotation_fused(L, expmap(Vec3(h * out.W[0], h * out.W[1], h * out.W[2]), q3_typo, true));
-    out.w = mul_fused(out.L, out.W);
+    out.w = mul_rows<row_fused>(out.L, out.W);
     return out;
   }
   // joints.cpp's free step (C++, macro order)

@@ -212,7 +212,10 @@ void FixContactHistory::list_from_atoms()
   if (touch_.capacity() > 2 * total + 4096) std::vector<gran::TouchFlag>().swap(touch_);
   // every slot belongs to one row, which clears it: rows are independent, shared by the threads
   values_.resize(total * nv_);
-  touch_.resize(total);
+  // kTouchPadding flags more than the slots: the AVX2 overlap scan reads four flags at once, also at
+  // an atom's last one to three neighbours (pair_gran_scan.h), and ignores what lies past the list
+  touch_.resize(total + gran::kTouchPadding);
+  slots_ = total;
   const int inum = list_->inum;
   [[maybe_unused]] const int nthreads = conversion_threads(lmp);  // used by the OpenMP pragma only
 #if defined(_OPENMP)
@@ -346,7 +349,7 @@ double FixContactHistory::compute_vector(int n)
   sync_atoms();
   const double contact_bytes = double(values_.capacity()) * sizeof(double) + touch_.capacity() +
       partners_.pool_val.capacity() * sizeof(double) + partners_.pool_tag.capacity() * sizeof(tagint);
-  double local[4] = {memory_usage(), 0.5 * double(live_entries()), double(touch_.size()), contact_bytes};
+  double local[4] = {memory_usage(), 0.5 * double(live_entries()), double(slots_), contact_bytes};
   MPI_Allreduce(local, stats_, 4, MPI_DOUBLE, MPI_SUM, world);
   return stats_[n];
 }

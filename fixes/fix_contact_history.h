@@ -51,6 +51,7 @@ class FixContactHistory : public state::PerAtomCallbacksFix {
   double *values() { return values_.data(); }
   gran::TouchFlag *touch_flags() { return touch_.data(); }
   const std::size_t *first_slots() const { return first_.data(); }
+  std::size_t slot_count() const { return slots_; }  // list-order slots (values() holds nvalues() per slot)
   void mark_updated() { atoms_stale_ = true; }  // the pair changed list values this step
 
   double memory_usage() override;
@@ -77,7 +78,8 @@ class FixContactHistory : public state::PerAtomCallbacksFix {
   // list order, with the tags and the owned-atom count the list was built with
   std::vector<std::size_t> first_;
   std::vector<double> values_;
-  std::vector<gran::TouchFlag> touch_;
+  std::vector<gran::TouchFlag> touch_;  // slots_ flags and kTouchPadding more
+  std::size_t slots_ = 0;
   std::vector<LAMMPS_NS::tagint> list_tag_;
   int list_nlocal_ = 0;
 

@@ -18,8 +18,11 @@
 #include "neighbor.h"
 #include "update.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <mpi.h>
 
 using namespace LAMMPS_NS;
@@ -206,6 +209,12 @@ void PairGran::create_history_fix()
 void PairGran::init_style()
 {
   check_requirements();
+  if (const char *probe = std::getenv("DEMBRIDGE_PAIR_PROBE")) {  // STEP[,PASSES] (bench/run_pair_probe.py)
+    const std::string text(probe);
+    const std::size_t comma = text.find(',');
+    probe_step_ = utils::bnumeric(FLERR, text.substr(0, comma), false, lmp);
+    if (comma != std::string::npos) probe_passes_ = std::max(1, utils::inumeric(FLERR, text.substr(comma + 1), false, lmp));
+  }
 
   freeze_groupbit_ = 0;
   for (Fix *f : modify->get_fix_by_style("^freeze")) freeze_groupbit_ |= f->groupbit;
@@ -302,6 +311,7 @@ gran::PairLoopData PairGran::loop_data() const
   d.uniform_coeffs = uniform_coeffs_;
   d.max_type = table_.max_type();
   d.law = &law_;
+  d.scan = forced_scan_;
   return d;
 }
 
@@ -327,32 +337,80 @@ void PairGran::end_contacts()
   if (vflag_fdotr) virial_fdotr_compute();
 }
 
+// DEMBRIDGE_PAIR_PROBE (see pair_gran.h): this step's loop, PASSES times per loop, the loops alternating
+// (which goes first alternates too), each pass from the same history, forces into scratch arrays.
+template <class MakeSink> void PairGran::probe_pair_loop(const MakeSink &make_sink)
+{
+  using Scan = gran::PairLoopData::Scan;
+  const std::size_t nslot = history_ ? history_->slot_count() : 0, nval = history_ ? nslot * history_->nvalues() : 0;
+  const std::vector<double> hist0(history_ ? history_->values() : nullptr, history_ ? history_->values() + nval : nullptr);
+  const std::vector<gran::TouchFlag> touch0(history_ ? history_->touch_flags() : nullptr, history_ ? history_->touch_flags() + nslot : nullptr);
+  std::vector<double> f(3 * std::size_t(atom->nmax)), torque(f.size());
+  const int evflag_run = evflag;
+  evflag = 0;
+  std::vector<double> t[2];  // CPU seconds per pass: AVX2, scalar
+  for (int pass = 0; pass < 2 * probe_passes_; pass++) {
+    const int which = (pass + pass / 2) % 2;  // avx2 scalar, scalar avx2, ...
+    if (history_) {
+      std::copy(hist0.begin(), hist0.end(), history_->values());
+      std::copy(touch0.begin(), touch0.end(), history_->touch_flags());
+    }
+    forced_scan_ = which == 0 ? Scan::Avx2 : Scan::Scalar;
+    timespec t0{}, t1{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0);
+    for_each_contact(0, list->inum, make_sink(f.data(), torque.data()));
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
+    t[which].push_back(double(t1.tv_sec - t0.tv_sec) + 1e-9 * double(t1.tv_nsec - t0.tv_nsec));
+  }
+  forced_scan_ = Scan::Default;
+  evflag = evflag_run;
+  if (history_) {
+    std::copy(hist0.begin(), hist0.end(), history_->values());
+    std::copy(touch0.begin(), touch0.end(), history_->touch_flags());
+  }
+  std::vector<double> ratio(t[0].size());
+  for (std::size_t k = 0; k < ratio.size(); k++) ratio[k] = t[0][k] / t[1][k];
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  utils::logmesg(lmp, "DEMBRIDGE_PAIR_PROBE step {} passes {} avx2 min {:.1f} median {:.1f} us scalar min {:.1f} median {:.1f} us "
+                      "ratio of min {:.4f} median of ratios {:.4f}\n",
+                 update->ntimestep, probe_passes_, 1e6 * *std::min_element(t[0].begin(), t[0].end()), 1e6 * median(t[0]),
+                 1e6 * *std::min_element(t[1].begin(), t[1].end()), 1e6 * median(t[1]),
+                 *std::min_element(t[0].begin(), t[0].end()) / *std::min_element(t[1].begin(), t[1].end()), median(ratio));
+}
+
 void PairGran::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
   if (!model_.force_on) return;
   begin_contacts();
   if (list->inum == 0) return end_contacts();  // (no per-atom arrays to point at)
-  double *f = atom->f[0], *torque = atom->torque[0];
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
-  for_each_contact(0, list->inum, [&](int i, int j, int, int, const gran::ContactResult &res) {
-    for (int k = 0; k < 3; k++) {
-      f[3 * i + k] += res.F[k];
-      torque[3 * i + k] += res.Ti[k];
-    }
-    if (newton_pair || j < nlocal) {
+  // the sink adding each contact to the atoms of f and torque (the probe's scratch arrays use the same)
+  auto add_to = [&](double *f, double *torque) {
+    return [this, f, torque, nlocal, newton_pair](int i, int j, int, int, const gran::ContactResult &res) {
       for (int k = 0; k < 3; k++) {
-        f[3 * j + k] -= res.F[k];
-        torque[3 * j + k] += res.Tj[k];
+        f[3 * i + k] += res.F[k];
+        torque[3 * i + k] += res.Ti[k];
       }
-    }
-    if (evflag) {
-      double **x = atom->x;
-      ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, res.F[0], res.F[1], res.F[2], x[i][0] - x[j][0], x[i][1] - x[j][1],
-                   x[i][2] - x[j][2]);
-    }
-  });
+      if (newton_pair || j < nlocal) {
+        for (int k = 0; k < 3; k++) {
+          f[3 * j + k] -= res.F[k];
+          torque[3 * j + k] += res.Tj[k];
+        }
+      }
+      if (evflag) {
+        double **x = atom->x;
+        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, res.F[0], res.F[1], res.F[2], x[i][0] - x[j][0], x[i][1] - x[j][1],
+                     x[i][2] - x[j][2]);
+      }
+    };
+  };
+  if (update->ntimestep == probe_step_) probe_pair_loop(add_to);
+  for_each_contact(0, list->inum, add_to(atom->f[0], atom->torque[0]));
   end_contacts();
 }
 

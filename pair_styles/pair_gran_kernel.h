@@ -39,6 +39,7 @@ struct PairLoopData {
   bool uniform_coeffs = false;  // every type pair has coeffs[coeff_stride + 1] (MaterialTable::uniform)
   int max_type = 0;
   const ContactLaw *law = nullptr;
+  enum class Scan { Default, Avx2, Scalar } scan = Scan::Default;  // a forced loop (the pair-loop probe)
 };
 
 // Why a loop stopped early (the caller reports it with the LAMMPS error it wants).

@@ -92,7 +92,7 @@ template <class Fallback> struct LaneContacts {
         b.dy[c] = b.dy[n - 1];
         b.dz[c] = b.dz[n - 1];
         b.rsq[c] = b.rsq[n - 1];
-        b.slot[c] = b.slot[n - 1];
+        if (Kernel::kHistory && d.hist) b.slot[c] = b.slot[n - 1];  // (stored by the scan with history only)
         b.i[c] = b.i[n - 1];
         b.j[c] = b.j[n - 1];
       }

@@ -136,11 +136,20 @@ using Contacts = ScalarContacts;
 
 // Which loop runs: the AVX2 one where the CPU has AVX2, unless DEMBRIDGE_PAIR_SCAN=scalar (or =avx2)
 // forces one (tests and bench/run_chute_bench.py --loops compare the two: same numbers).
+inline bool use_avx2_cpu()
+{
+#ifdef DEMBRIDGE_HAVE_AVX2_SCAN
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  return avx2;
+#else
+  return false;
+#endif
+}
 inline bool use_avx2_scan()
 {
 #ifdef DEMBRIDGE_HAVE_AVX2_SCAN
   static const bool avx2 = [] {
-    if (!__builtin_cpu_supports("avx2")) return false;
+    if (!use_avx2_cpu()) return false;
     const char *env = std::getenv("DEMBRIDGE_PAIR_SCAN");
     return !(env && std::string_view(env) == "scalar");
   }();
@@ -153,7 +162,8 @@ inline bool use_avx2_scan()
 template <class Kernel, class Sink> PairLoopError pair_loop(const PairLoopData &d, int ii_begin, int ii_end, Sink &sink)
 {
 #ifdef DEMBRIDGE_HAVE_AVX2_SCAN
-  if (use_avx2_scan()) return avx2_scan::pair_loop<Kernel>(d, ii_begin, ii_end, sink);
+  const bool avx2 = d.scan == PairLoopData::Scan::Default ? use_avx2_scan() : d.scan == PairLoopData::Scan::Avx2 && use_avx2_cpu();
+  if (avx2) return avx2_scan::pair_loop<Kernel>(d, ii_begin, ii_end, sink);
 #endif
   return scalar_scan::pair_loop<Kernel>(d, ii_begin, ii_end, sink);
 }

@@ -7,4 +7,7 @@ namespace dembridge::gran {
 
 enum class TouchFlag : unsigned char { Separated = 0, Touching = 1 };
 
+// Flags the history keeps after its last slot, so that four flags can be read from any slot on.
+constexpr int kTouchPadding = 3;
+
 }  // namespace dembridge::gran

@@ -337,9 +337,34 @@ void PairGran::end_contacts()
   if (vflag_fdotr) virial_fdotr_compute();
 }
 
+// The serial compute's sink: adds each contact to the atoms of f and torque (the probe's scratch arrays too).
+struct PairGran::ForceSink {
+  PairGran *pair;
+  double *f, *torque;
+  int nlocal, newton_pair;
+  void operator()(int i, int j, int, int, const gran::ContactResult &res) const
+  {
+    for (int k = 0; k < 3; k++) {
+      f[3 * i + k] += res.F[k];
+      torque[3 * i + k] += res.Ti[k];
+    }
+    if (newton_pair || j < nlocal) {
+      for (int k = 0; k < 3; k++) {
+        f[3 * j + k] -= res.F[k];
+        torque[3 * j + k] += res.Tj[k];
+      }
+    }
+    if (pair->evflag) {
+      double **x = pair->atom->x;
+      pair->ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, res.F[0], res.F[1], res.F[2], x[i][0] - x[j][0], x[i][1] - x[j][1],
+                         x[i][2] - x[j][2]);
+    }
+  }
+};
+
 // DEMBRIDGE_PAIR_PROBE (see pair_gran.h): this step's loop, PASSES times per loop, the loops alternating
 // (which goes first alternates too), each pass from the same history, forces into scratch arrays.
-template <class MakeSink> void PairGran::probe_pair_loop(const MakeSink &make_sink)
+void PairGran::probe_pair_loop()
 {
   using Scan = gran::PairLoopData::Scan;
   const std::size_t nslot = history_ ? history_->slot_count() : 0, nval = history_ ? nslot * history_->nvalues() : 0;
@@ -358,7 +383,7 @@ template <class MakeSink> void PairGran::probe_pair_loop(const MakeSink &make_si
     forced_scan_ = which == 0 ? Scan::Avx2 : Scan::Scalar;
     timespec t0{}, t1{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0);
-    for_each_contact(0, list->inum, make_sink(f.data(), torque.data()));
+    for_each_contact(0, list->inum, ForceSink{this, f.data(), torque.data(), atom->nlocal, force->newton_pair});
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
     t[which].push_back(double(t1.tv_sec - t0.tv_sec) + 1e-9 * double(t1.tv_nsec - t0.tv_nsec));
   }
@@ -374,11 +399,10 @@ template <class MakeSink> void PairGran::probe_pair_loop(const MakeSink &make_si
     std::sort(v.begin(), v.end());
     return v[v.size() / 2];
   };
+  const double min0 = *std::min_element(t[0].begin(), t[0].end()), min1 = *std::min_element(t[1].begin(), t[1].end());
   utils::logmesg(lmp, "DEMBRIDGE_PAIR_PROBE step {} passes {} avx2 min {:.1f} median {:.1f} us scalar min {:.1f} median {:.1f} us "
                       "ratio of min {:.4f} median of ratios {:.4f}\n",
-                 update->ntimestep, probe_passes_, 1e6 * *std::min_element(t[0].begin(), t[0].end()), 1e6 * median(t[0]),
-                 1e6 * *std::min_element(t[1].begin(), t[1].end()), 1e6 * median(t[1]),
-                 *std::min_element(t[0].begin(), t[0].end()) / *std::min_element(t[1].begin(), t[1].end()), median(ratio));
+                 update->ntimestep, probe_passes_, 1e6 * min0, 1e6 * median(t[0]), 1e6 * min1, 1e6 * median(t[1]), min0 / min1, median(ratio));
 }
 
 void PairGran::compute(int eflag, int vflag)
@@ -387,30 +411,8 @@ void PairGran::compute(int eflag, int vflag)
   if (!model_.force_on) return;
   begin_contacts();
   if (list->inum == 0) return end_contacts();  // (no per-atom arrays to point at)
-  const int nlocal = atom->nlocal;
-  const int newton_pair = force->newton_pair;
-  // the sink adding each contact to the atoms of f and torque (the probe's scratch arrays use the same)
-  auto add_to = [&](double *f, double *torque) {
-    return [this, f, torque, nlocal, newton_pair](int i, int j, int, int, const gran::ContactResult &res) {
-      for (int k = 0; k < 3; k++) {
-        f[3 * i + k] += res.F[k];
-        torque[3 * i + k] += res.Ti[k];
-      }
-      if (newton_pair || j < nlocal) {
-        for (int k = 0; k < 3; k++) {
-          f[3 * j + k] -= res.F[k];
-          torque[3 * j + k] += res.Tj[k];
-        }
-      }
-      if (evflag) {
-        double **x = atom->x;
-        ev_tally_xyz(i, j, nlocal, newton_pair, 0.0, 0.0, res.F[0], res.F[1], res.F[2], x[i][0] - x[j][0], x[i][1] - x[j][1],
-                     x[i][2] - x[j][2]);
-      }
-    };
-  };
-  if (update->ntimestep == probe_step_) probe_pair_loop(add_to);
-  for_each_contact(0, list->inum, add_to(atom->f[0], atom->torque[0]));
+  if (update->ntimestep == probe_step_) probe_pair_loop();
+  for_each_contact(0, list->inum, ForceSink{this, atom->f[0], atom->torque[0], atom->nlocal, force->newton_pair});
   end_contacts();
 }
 

@@ -71,7 +71,8 @@ class PairGran : public LAMMPS_NS::Pair {
   long probe_step_ = -1;
   int probe_passes_ = 200;
   gran::PairLoopData::Scan forced_scan_ = gran::PairLoopData::Scan::Default;
-  template <class MakeSink> void probe_pair_loop(const MakeSink &make_sink);
+  void probe_pair_loop();
+  struct ForceSink;  // adds each contact to f and torque (pair_gran.cpp)
   // Material properties kept in the restart file; a fix property/global of the same name wins.
   std::map<std::string, property::GlobalProperty> restart_properties_;
 

@@ -513,8 +513,10 @@ FixMBDyn::Message FixMBDyn::receive_broadcast(const char *expecting)
         m.command = static_cast<int>(session_->kinematics().command);
         m.step = static_cast<long long>(r.step);
         m.iteration = static_cast<int>(r.iteration);
-        if (parallel)  // the other ranks decode these bytes
-          mb::write_kinematics_payload(options_->nodal, session_->kinematics(), bcast_.data() + head_bytes);
+        if (parallel) {  // the other ranks decode these bytes
+          const auto &raw = session_->raw_payload();
+          std::memcpy(bcast_.data() + head_bytes, raw.data(), raw.size());
+        }
       }
     } catch (const std::exception &e) {
       m.status = 2;

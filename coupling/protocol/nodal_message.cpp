@@ -228,14 +228,6 @@ void validate_kinematics(const NodalConfig& config, const Kinematics& k) {
   }
 }
 
-void write_kinematics_payload(const NodalConfig& config, const Kinematics& k, std::uint8_t* out) {
-  thread_local std::vector<WireSpan> spans;  // kept: no allocation per message
-  kinematics_spans(config, k, spans);
-  const std::size_t size = config.kinematics_payload_bytes();
-  if (gather(spans, out, size) != size)
-    throw std::logic_error("write_kinematics_payload: layout and size disagree");
-}
-
 void decode_kinematics_into(const NodalConfig& config, Command command, const std::uint8_t* payload,
                             std::size_t size, Kinematics& k) {
   const std::size_t expected = config.kinematics_payload_bytes();
@@ -312,12 +304,12 @@ void check_loads(const NodalConfig& config, Command command, const Loads& loads,
     if (rot) check_finite(loads.reference_moment.data(), 3, "reference moment");
   }
 }
-}  // namespace
 
+// The whole loads message (command byte, then payload) as pieces: *command_byte must hold the
+// command while the pieces are used.
 void loads_wire_spans(const NodalConfig& config, const std::uint8_t* command_byte, const Loads& loads,
                       const std::vector<std::uint32_t>& labels, const std::uint32_t* reference_label,
                       std::vector<WireSpan>& out) {
-  check_loads(config, static_cast<Command>(*command_byte), loads, labels);
   const std::size_t n = config.num_points;
   const bool rot = config.has_rotation();
   out.clear();
@@ -341,11 +333,20 @@ void loads_wire_spans(const NodalConfig& config, const std::uint8_t* command_byt
   }
 }
 
+}  // namespace
+
 void encode_loads_into(const NodalConfig& config, Command command, const Loads& loads,
                        std::vector<std::uint8_t>& out) {
+  encode_loads_into(config, command, loads, loads.labels, &loads.reference_label, out);
+}
+
+void encode_loads_into(const NodalConfig& config, Command command, const Loads& loads,
+                       const std::vector<std::uint32_t>& labels, const std::uint32_t* reference_label,
+                       std::vector<std::uint8_t>& out) {
+  check_loads(config, command, loads, labels);
   const std::uint8_t cmd = static_cast<std::uint8_t>(command);
   thread_local std::vector<WireSpan> spans;  // kept: no allocation per message
-  loads_wire_spans(config, &cmd, loads, loads.labels, &loads.reference_label, spans);
+  loads_wire_spans(config, &cmd, loads, labels, reference_label, spans);
   out.resize(1 + config.loads_payload_bytes());  // every byte is written below
   if (gather(spans, out.data(), out.size()) != out.size()) throw std::logic_error("encode_loads: layout and size disagree");
 }

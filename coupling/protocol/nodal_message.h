@@ -67,9 +67,10 @@ struct Loads {
 };
 
 // One piece of a payload's wire layout: size bytes at data, the pieces back to back (spec §2).
-// data == nullptr is a pad: ignored on receipt, zero when sent. A transport reads a message
-// straight into such pieces (one recvmsg) and sends one from them (one sendmsg): no byte
-// buffer and no copy between the socket and the arrays.
+// data == nullptr is a pad: ignored on receipt, zero when sent. The layouts are written once,
+// as lists of these pieces, and both decoding and encoding walk them. (A transport can also
+// read a message straight into them with one recvmsg; for MBDyn's messages that measured slower
+// than one contiguous recvmsg plus these copies, issue 12 P5, so the session does not.)
 struct WireSpan {
   void* data;
   std::size_t size;
@@ -83,10 +84,6 @@ void kinematics_wire_spans(const NodalConfig& config, Kinematics& k, std::vector
 // The checks of a decoded payload: every value finite; throws MalformedMessageError naming the
 // field, point and label of the first that is not.
 void validate_kinematics(const NodalConfig& config, const Kinematics& k);
-// k's payload as MBDyn sent it (config.kinematics_payload_bytes() bytes into out): MPI ranks
-// broadcast these bytes and decode them themselves (spec P5).
-void write_kinematics_payload(const NodalConfig& config, const Kinematics& k, std::uint8_t* out);
-
 // Decodes a kinematics payload (the bytes after the command byte). Throws MalformedMessageError
 // if the size differs from config.kinematics_payload_bytes() or a value is not finite (naming the
 // field, point and label).
@@ -108,13 +105,12 @@ std::vector<std::uint8_t> encode_loads(const NodalConfig& config, Command comman
 // The same into out (resized to the message, its capacity kept).
 void encode_loads_into(const NodalConfig& config, Command command, const Loads& loads,
                        std::vector<std::uint8_t>& out);
-// The whole loads message (command byte, then payload) as pieces of the caller's storage, after
-// encode_loads' checks (same errors): *command_byte must hold the command and outlive the send.
-// labels and reference_label are what the message carries (with labels: MBDyn's own, echoed,
-// spec P10); they are read only with config.labels. The per-message path of the session.
-void loads_wire_spans(const NodalConfig& config, const std::uint8_t* command_byte, const Loads& loads,
-                      const std::vector<std::uint32_t>& labels, const std::uint32_t* reference_label,
-                      std::vector<WireSpan>& out);
+// The same with the labels the message carries given apart from loads (with labels: MBDyn's
+// own, echoed, spec P10; read only with config.labels): the session's per-message path, which
+// then neither copies loads nor allocates.
+void encode_loads_into(const NodalConfig& config, Command command, const Loads& loads,
+                       const std::vector<std::uint32_t>& labels, const std::uint32_t* reference_label,
+                       std::vector<std::uint8_t>& out);
 
 // Orientation conversions used by Kinematics::rotation_matrix (spec §4.3).
 // Wire: R11 R21 R31 R12 R22 R32 R13 R23 R33 (spec §2, verified). Inline: it runs per point and message.

@@ -61,9 +61,10 @@ class PeerSession {
   // the session is finished. Unknown commands, wrong lengths, non-finite values and timeouts
   // send 5 to MBDyn and throw; EOF/reset without a 5 throws PeerClosedError.
   Received receive();
-  // The last kinematics, read straight into these arrays (no byte buffer). MPI ranks receive
-  // write_kinematics_payload's bytes of it by broadcast and decode them themselves (spec P5).
   const Kinematics& kinematics() const { return kinematics_; }
+  // The raw payload of the last kinematics message (host byte order, spec §2): MPI ranks can
+  // receive it by broadcast and call decode_kinematics(config(), command, ...) themselves (P5).
+  const std::vector<std::uint8_t>& raw_payload() const { return payload_; }
 
   // Answers the last kinematics. converged=true sends 6 (mandatory in loose, spec P9);
   // converged=false sends 2 (tight only: MBDyn sends another iterate). Labels are echoed
@@ -86,18 +87,16 @@ class PeerSession {
   enum class State { AwaitingKinematics, AwaitingAnswer, StopRequested, Finished, Failed };
   Received receive_message();
   Received finish();
-  void write_answer(const std::vector<std::uint8_t>& bytes, bool converged);  // a command without payload
-  void write_pieces(bool converged);  // answer_pieces_ (command answer_command_), one sendmsg
+  void write_answer(const std::vector<std::uint8_t>& bytes, bool converged);
   void require_answer_allowed(const char* what) const;
 
   SessionOptions options_;
   SocketTransport transport_;
   State state_ = State::AwaitingKinematics;
   Kinematics kinematics_;
-  std::vector<WireSpan> kinematics_pieces_;  // the payload's layout over kinematics_, per message
-  std::vector<WireSpan> answer_pieces_;      // the loads message's layout, per message
-  std::uint8_t answer_command_ = 0;           // its command byte
-  std::string payload_what_;  // "kinematics payload of N bytes (...)", for read errors
+  std::vector<std::uint8_t> payload_;
+  std::vector<std::uint8_t> answer_;  // the last loads message sent, reused
+  std::string payload_what_;          // "kinematics payload of N bytes (...)", for read errors
   std::uint64_t messages_received_ = 0;
   std::uint64_t step_ = 0;
   std::uint32_t iteration_ = 0;

@@ -183,7 +183,8 @@ bool SocketTransport::defer_consumption() {
 
 void SocketTransport::consume_deferred() {
   while (deferred_ > 0) {
-    if (drain_.empty()) drain_.resize(kDeferredBytes);
+    // room for kDeferredBytes and one more message of up to as much: one recv per consumption
+    if (drain_.empty()) drain_.resize(2 * kDeferredBytes);
     const ssize_t rc = ::recv(fd_, drain_.data(), std::min(deferred_, drain_.size()), MSG_DONTWAIT);
     if (rc > 0) {
       deferred_ -= static_cast<std::size_t>(rc);
@@ -391,28 +392,6 @@ void SocketTransport::read_message(std::uint8_t& cmd, const WireSpan* payload, s
       io_failed(rc, err, POLLIN, deadline, timeout_s, what_payload, got, n);
     else
       io_failed(rc, err, POLLIN, deadline, timeout_s, what_command, 0, 1);
-  }
-}
-
-void SocketTransport::write_message(const WireSpan* pieces, std::size_t count, double timeout_s,
-                                    const std::string& what) {
-  if (fd_ < 0) throw PeerClosedError("writing " + what + ": the connection to MBDyn is closed");
-  const Deadline deadline(timeout_s);
-  std::uint8_t zeros[8] = {};  // the wire's pads (spec §2)
-  IoList io;
-  for (std::size_t i = 0; i < count; ++i) io.add(pieces[i].data, pieces[i].size, zeros);
-  const std::size_t n = io.bytes();
-  std::size_t sent = 0;
-  while (sent < n) {
-    // MSG_NOSIGNAL: a dead MBDyn must give an error, not kill LAMMPS with SIGPIPE.
-    msghdr m = io.header();
-    const ssize_t rc = ::sendmsg(fd_, &m, MSG_NOSIGNAL | MSG_DONTWAIT);
-    if (rc >= 0) {
-      sent += static_cast<std::size_t>(rc);
-      io.advance(static_cast<std::size_t>(rc));
-      continue;
-    }
-    io_failed(rc, errno, POLLOUT, deadline, timeout_s, what, sent, n);
   }
 }
 

@@ -178,14 +178,15 @@ bool SocketTransport::defer_consumption() {
   if (fd_ < 0 || tcp_) return false;
   int zero = 0;  // peeks start at offset 0 and move on by what they read
   deferring_ = ::setsockopt(fd_, SOL_SOCKET, SO_PEEK_OFF, &zero, sizeof zero) == 0;
+  // room for kDeferredBytes and one more message of up to as much: one recv per consumption;
+  // allocated here, before the run, and never zeroed
+  if (deferring_ && !drain_) drain_.reset(new std::uint8_t[2 * kDeferredBytes]);
   return deferring_;
 }
 
 void SocketTransport::consume_deferred() {
   while (deferred_ > 0) {
-    // room for kDeferredBytes and one more message of up to as much: one recv per consumption
-    if (drain_.empty()) drain_.resize(2 * kDeferredBytes);
-    const ssize_t rc = ::recv(fd_, drain_.data(), std::min(deferred_, drain_.size()), MSG_DONTWAIT);
+    const ssize_t rc = ::recv(fd_, drain_.get(), std::min(deferred_, 2 * kDeferredBytes), MSG_DONTWAIT);
     if (rc > 0) {
       deferred_ -= static_cast<std::size_t>(rc);
       continue;

@@ -6,8 +6,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
-#include <vector>
 
 namespace dembridge::mbdyn {
 
@@ -102,7 +102,7 @@ class SocketTransport {
   double recv_timeout_s_ = 0.0;  // SO_RCVTIMEO as last set; 0: not set
   bool deferring_ = false;            // defer_consumption() is on
   std::size_t deferred_ = 0;          // bytes read with MSG_PEEK, not consumed yet
-  std::vector<std::uint8_t> drain_;   // where consumed bytes go
+  std::unique_ptr<std::uint8_t[]> drain_;  // where consumed bytes go: 2 kDeferredBytes, not zeroed
 };
 
 // MBDyn `create, no`: the peer listens and MBDyn connects while it parses its input (spec §1).

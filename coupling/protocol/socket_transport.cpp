@@ -398,6 +398,9 @@ void SocketTransport::read_message(std::uint8_t& cmd, const WireSpan* payload, s
 
 void SocketTransport::write_all(const void* buffer, std::size_t n, double timeout_s, const std::string& what) {
   if (fd_ < 0) throw PeerClosedError("writing " + what + ": the connection to MBDyn is closed");
+  // Consumed here, just before the answer: the wake-up this gives MBDyn merges with the one our
+  // send gives it anyway, and the send's buffers come from the ones just freed.
+  if (deferred_ > 0) consume_deferred();
   const Deadline deadline(timeout_s);
   const auto* p = static_cast<const std::uint8_t*>(buffer);
   std::size_t sent = 0;

@@ -61,14 +61,15 @@ class SocketTransport {
   // loops only on a partial send. Throws TimeoutError or PeerClosedError.
   void write_all(const void* buffer, std::size_t n, double timeout_s, const std::string& what);
   // Unix sockets (issue 12, P5): read_message then reads a whole message with MSG_PEEK and
-  // consumes the bytes later, kDeferredBytes at a time or as soon as a message is not all there
-  // yet. Consuming the peer's bytes frees its send buffer, and Linux then wakes the peer if it
-  // sleeps in recv (AF_UNIX write-space wake-up, unconditional for a blocked reader). MBDyn
-  // sleeps in recv waiting for our answer whenever its message is already here, so every receive
-  // woke it once for nothing (and on a busy machine switched to it). Deferred, the wake comes once
-  // per kDeferredBytes, or not at all while MBDyn is still writing or computing. Every other read
-  // and close() consume the deferred bytes first. False (nothing changes) for TCP, whose receive
-  // wakes nobody, or when the kernel lacks SO_PEEK_OFF.
+  // consumes the bytes later: in the next write (just before our answer), as soon as a message is
+  // not all there yet, or at kDeferredBytes (a peer we never answer). Consuming the peer's bytes
+  // frees its send buffer, and Linux then wakes the peer if it sleeps in recv (AF_UNIX write-space
+  // wake-up, unconditional for a blocked reader). MBDyn sleeps in recv waiting for our answer
+  // whenever its message is already here, so every receive woke it once for nothing (a cross-core
+  // IPI, or a switch to it on LAMMPS's core). Consumed just before the answer, that wake-up merges
+  // with the one the answer gives anyway; while MBDyn is still writing or computing it wakes
+  // nobody. Every other read and close() consume the deferred bytes first. False (nothing
+  // changes) for TCP, whose receive wakes nobody, or when the kernel lacks SO_PEEK_OFF.
   bool defer_consumption();
   static constexpr std::size_t kDeferredBytes = 64 * 1024;
   // Best effort for clean aborts: tries to write one byte within timeout_s, never throws.

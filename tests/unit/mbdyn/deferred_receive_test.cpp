@@ -1,6 +1,6 @@
 // Unix receives that peek a whole message and consume its bytes later (issue 12, P5;
-// SocketTransport::defer_consumption): every message still reads as sent, the bytes are consumed
-// kDeferredBytes at a time, and anything else that reads, and close(), consumes them first.
+// SocketTransport::defer_consumption): every message still reads as sent; the bytes are consumed
+// before our next write, at kDeferredBytes without one, and by anything else that reads, and close().
 #include <gtest/gtest.h>
 #include <sys/ioctl.h>
 #include <sys/socket.h>
@@ -48,9 +48,18 @@ struct Pair {
   }
 };
 
+// Defers t and reads one 48-byte message through it, which stays queued (49 bytes).
+void hold_one_message(SocketTransport& t, const Pair& p) {
+  ASSERT_TRUE(t.defer_consumption());
+  std::uint8_t cmd = 0, payload[48];
+  send_all(p.fds[1], message(48, 1));
+  t.read_message(cmd, payload, sizeof payload, has_payload, 5.0, "a command byte", "payload");
+  EXPECT_EQ(queued(p.fds[0]), 49);
+}
+
 }  // namespace
 
-TEST(DeferredReceive, WholeMessagesArePeekedAndConsumedInBulk) {
+TEST(DeferredReceive, WholeMessagesArePeekedAndConsumedInBulkWithoutAnswers) {
   Pair p;
   SocketTransport t(p.fds[0], false, "socketpair");
   ASSERT_TRUE(t.defer_consumption());
@@ -113,15 +122,25 @@ TEST(DeferredReceive, PadsPiecesAndLaterReadsKeepTheOrder) {
   EXPECT_EQ(queued(p.fds[0]), 0);
 }
 
+TEST(DeferredReceive, TheAnswerConsumesFirst) {
+  // The held bytes go just before our answer (its wake-up of MBDyn covers theirs); the answer
+  // itself arrives whole.
+  Pair p;
+  SocketTransport t(p.fds[0], false, "socketpair");
+  hold_one_message(t, p);
+  const std::vector<std::uint8_t> answer = message(24, 2);
+  t.write_all(answer.data(), answer.size(), 5.0, "the answer");
+  EXPECT_EQ(queued(p.fds[0]), 0);
+  std::vector<std::uint8_t> got(answer.size());
+  ASSERT_EQ(::recv(p.fds[1], got.data(), got.size(), MSG_WAITALL), static_cast<ssize_t>(got.size()));
+  EXPECT_EQ(got, answer);
+}
+
 TEST(DeferredReceive, CloseConsumesFirstSoThePeerSeesEndOfStream) {
   // Unread bytes at close make the peer's next read fail with ECONNRESET; MBDyn must see EOF.
   Pair p;
   SocketTransport t(p.fds[0], false, "socketpair");
-  ASSERT_TRUE(t.defer_consumption());
-  std::uint8_t cmd = 0, payload[48];
-  send_all(p.fds[1], message(48, 1));
-  t.read_message(cmd, payload, sizeof payload, has_payload, 5.0, "a command byte", "payload");
-  EXPECT_EQ(queued(p.fds[0]), 49);
+  hold_one_message(t, p);
   t.close();
   std::uint8_t b;
   EXPECT_EQ(::recv(p.fds[1], &b, 1, 0), 0) << std::strerror(errno);

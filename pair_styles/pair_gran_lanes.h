@@ -15,7 +15,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <immintrin.h>
+#include <algorithm>
 #include <limits>
+#include <type_traits>
 #include <utility>
 
 namespace dembridge::gran::loop_detail {
@@ -24,6 +26,7 @@ namespace dembridge::gran::loop_detail {
 #define DEMBRIDGE_HAVE_LANE_CONTACTS 1
 
 constexpr int kLaneMaxHistory = 6;  // history values per pair the lanes carry
+constexpr int kPrefetchAhead = 8;   // pairs
 // The atom data of four touching pairs, one per lane, that the LIGGGHTS laws' lane forms
 // read. Kernel::LaneIn is the kernel's own input type (LAMMPS laws: LammpsPairIn<Lanes4>, the same
 // field names less mi, mj and the LIGGGHTS coefficients), which the loop fills directly.
@@ -51,6 +54,11 @@ template <unsigned Mask, class Load> [[gnu::always_inline, gnu::target("avx2")]]
 {
   load_coeffs<Mask>(out, c0, load, std::make_index_sequence<PairCoeffFields<double>::kCount>{});
 }
+
+// A sink with prefetch(j) (the serial compute's) can fetch ahead the rows it will add pair j's force to.
+template <class Sink, class = void> struct SinkPrefetches : std::false_type {};
+template <class Sink>
+struct SinkPrefetches<Sink, std::void_t<decltype(std::declval<const Sink &>().prefetch(0))>> : std::true_type {};
 
 // Fallback: the per-pair evaluation, for the kernels without a lane form (Kernel::kLanes false).
 template <class Fallback> struct LaneContacts {
@@ -110,6 +118,16 @@ template <class Fallback> struct LaneContacts {
       if (uniform) load_coeffs<Kernel::kCoeffFields>(broadcast, d.coeffs[d.coeff_stride + 1], Broadcast{});
       const PairCoeffsT<Lanes4> &pc = uniform ? broadcast : gathered;
       for (int c = 0; c < n4; c += 4) {
+        // Two groups ahead, the rows that miss the cache most (perf, chute): the pair's history slot,
+        // the neighbour's velocity, spin and mass, and the neighbour's force and torque rows of the sink
+        // (the scan has only read the positions; atom i's rows follow the list and stay cached)
+        for (int q = c + kPrefetchAhead, q_end = std::min(c + kPrefetchAhead + 4, n); q < q_end; q++) {
+          const std::size_t j3 = 3 * std::size_t(b.j[q]);
+          if (with_history) __builtin_prefetch(d.hist + b.slot[q] * d.nv, 1);
+          __builtin_prefetch(d.v + j3);
+          __builtin_prefetch(d.omega + j3);
+          if constexpr (SinkPrefetches<Sink>::value) sink.prefetch(b.j[q]);
+        }
         // per-atom values as rows and lanes (pair_gran_rows.h), not gathers
         const int *ic = b.i + c, *jc = b.j + c;
         typename Kernel::LaneIn p;

@@ -5,6 +5,7 @@
 
 #include "style_registry.h"
 
+#include "body_rotation.h"
 #include "critical_step.h"
 #include "equivalent_mass.h"
 #include "spring_step.h"
@@ -66,36 +67,7 @@ bool is_spring_option(const std::string &s)
 
 using state::is_number;
 
-// Rotation matrix (body -> space) of a LAMMPS quaternion (w, x, y, z).
-struct Rot {
-  double m[3][3];
-  static Rot identity() { return {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}; }
-  static Rot of(const double *q)
-  {
-    const double w = q[0], x = q[1], y = q[2], z = q[3];
-    Rot r;
-    r.m[0][0] = w * w + x * x - y * y - z * z;
-    r.m[0][1] = 2.0 * (x * y - w * z);
-    r.m[0][2] = 2.0 * (x * z + w * y);
-    r.m[1][0] = 2.0 * (x * y + w * z);
-    r.m[1][1] = w * w - x * x + y * y - z * z;
-    r.m[1][2] = 2.0 * (y * z - w * x);
-    r.m[2][0] = 2.0 * (x * z - w * y);
-    r.m[2][1] = 2.0 * (y * z + w * x);
-    r.m[2][2] = w * w - x * x - y * y + z * z;
-    return r;
-  }
-  sp::Vec3 apply(const sp::Vec3 &v) const
-  {
-    return {m[0][0] * v[0] + m[0][1] * v[1] + m[0][2] * v[2], m[1][0] * v[0] + m[1][1] * v[1] + m[1][2] * v[2],
-            m[2][0] * v[0] + m[2][1] * v[1] + m[2][2] * v[2]};
-  }
-  sp::Vec3 apply_t(const sp::Vec3 &v) const
-  {
-    return {m[0][0] * v[0] + m[1][0] * v[1] + m[2][0] * v[2], m[0][1] * v[0] + m[1][1] * v[1] + m[2][1] * v[2],
-            m[0][2] * v[0] + m[1][2] * v[1] + m[2][2] * v[2]};
-  }
-};
+using Rot = sp::BodyRotation;
 
 sp::Vec3 vec(const double *a) { return {a[0], a[1], a[2]}; }
 bool zero(const sp::Vec3 &a) { return a[0] == 0.0 && a[1] == 0.0 && a[2] == 0.0; }
@@ -498,6 +470,11 @@ void FixParmecSpring::evaluate(Mode mode)
   // Committed steps in the default order: the centre-to-centre point springs and the planes carried by part2
   // from part1's centre by their own loops (evaluate_centres, evaluate_plane)
   const bool split = mode == Mode::Commit && !parmec_order_;
+  // More planes carried by atoms than atoms: each atom's matrix formed once (the same doubles as per spring)
+  if (split && ctx.quat && static_cast<int>(plane_r_.size()) > ctx.nall) {
+    if (static_cast<int>(atom_rot_.size()) < ctx.nall) atom_rot_.resize(ctx.nall);
+    ctx.body_rot = atom_rot_.data();
+  }
 
   // Phase 1, threaded: every spring from its own record and the atoms' (read-only) data; it writes its
   // record, its output row, its plan item and its result only, so the outcome does not depend on the
@@ -512,6 +489,10 @@ void FixParmecSpring::evaluate(Mode mode)
     if (split) {
       const int nc = static_cast<int>(centre_r_.size()), np = static_cast<int>(plane_r_.size());
       const int no = static_cast<int>(other_r_.size());
+      if (ctx.body_rot) {
+#pragma omp for schedule(static)
+        for (int j = 0; j < ctx.nall; j++) atom_rot_[j] = Rot::of(ctx.quat[j]);
+      }
 #pragma omp for schedule(static) nowait
       for (int n = 0; n < nc; n++) flags |= evaluate_centres(ctx, centre_r_[n]);
 #pragma omp for schedule(static) nowait
@@ -525,6 +506,8 @@ void FixParmecSpring::evaluate(Mode mode)
   }
 #else
   if (split) {
+    if (ctx.body_rot)
+      for (int j = 0; j < ctx.nall; j++) atom_rot_[j] = Rot::of(ctx.quat[j]);
     for (const int r : centre_r_) flags |= evaluate_centres(ctx, r);
     for (const int r : plane_r_) flags |= evaluate_plane(ctx, r);
     for (const int r : other_r_) flags |= (this->*spring)(ctx, r);
@@ -987,7 +970,7 @@ int FixParmecSpring::output_row(const EvalContext &ctx, int r, const sp::SpringS
     return flags | kFailed;
   }
   const sp::Vec3 zero3{0, 0, 0};
-  const Rot Rk = ctx.quat ? Rot::of(ctx.quat[k]) : Rot::identity();
+  const Rot Rk = ctx.body_rot ? ctx.body_rot[k] : ctx.quat ? Rot::of(ctx.quat[k]) : Rot::identity();
   const sp::Vec3 b = d.arm2_zero ? zero3 : Rk.apply(d.arm2);
   const sp::Vec3 normal = Rk.apply(d.nref);
   const sp::Vec3 p = xi + zero3, q = xk + b;

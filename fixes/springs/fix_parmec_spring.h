@@ -15,6 +15,7 @@
 #include "local_incidence.h"
 #include "per_atom_state_fix.h"
 
+#include "body_rotation.h"
 #include "spring_geometry.h"
 #include "spring_law.h"
 #include "spring_state.h"
@@ -125,6 +126,7 @@ class FixParmecSpring : public state::PerAtomStateFix {
     double dt = 0.0, tnow = 0.0;
     double **omega = nullptr, **quat = nullptr;
     double **rot = nullptr;  // 'order parmec': Λ row-major per atom (fix parmec/rigid)
+    const springs::BodyRotation *body_rot = nullptr;  // the plane loop: each atom's matrix (null: per spring)
     const double *rmass = nullptr, *mass = nullptr, *radius = nullptr;
     double **inertia = nullptr;  // 'inertia NAME': d2_NAME per atom (local and ghost), else the sphere's
     const int *type = nullptr;
@@ -187,6 +189,7 @@ class FixParmecSpring : public state::PerAtomStateFix {
   std::vector<int> centre_r_, plane_r_, other_r_;  // evaluation indices of evaluate_centres', evaluate_plane's, others'
   int centre_total_ = -1;                 // plan size the split was made for
   void split_plan(int total);
+  std::vector<springs::BodyRotation> atom_rot_;  // per local/ghost atom, when the plane springs outnumber the atoms
   // The local output is written only on steps where something can read it (output_wanted()).
   bool readers_every_step_ = false;  // a compute reduce, fix ave/histo, python or external fix exists (init)
   bool output_wanted(Mode mode) const;

@@ -20,7 +20,13 @@ SpringTable SpringTable::from_pairs(const std::vector<double>& xy, const char* w
     t.x_.push_back(xy[i]);
     t.y_.push_back(xy[i + 1]);
   }
+  t.set_slopes();
   return t;
+}
+
+void SpringTable::set_slopes() {
+  slope_.clear();
+  for (std::size_t i = 0; i + 1 < x_.size(); ++i) slope_.push_back((y_[i + 1] - y_[i]) / (x_[i + 1] - x_[i]));
 }
 
 SpringTable SpringTable::zero() {
@@ -29,6 +35,7 @@ SpringTable SpringTable::zero() {
   // Any two x give the same identically zero table, so use finite ones.
   t.x_ = {-1.0, 1.0};
   t.y_ = {0.0, 0.0};
+  t.set_slopes();
   return t;
 }
 

@@ -42,13 +42,25 @@ class SpringTable {
 
  private:
   static std::size_t left_interval(const std::vector<double>& col, double arg);
+  void set_slopes();
   std::vector<double> x_, y_;
+  // slope_[lo] = (y_[lo+1] - y_[lo]) / (x_[lo+1] - x_[lo]), formed once (the same double as per lookup): a
+  // division less in every lookup
+  std::vector<double> slope_;
 };
 
-// Binary search for lo with col[lo] < arg <= col[lo+1]; clamped to the first/last interval so that
-// arguments outside the table extrapolate linearly (spec §3, §17.9).
+// lo with col[lo] < arg <= col[lo+1]; clamped to the first/last interval so that arguments outside the table
+// extrapolate linearly (spec §3, §17.9). col is strictly increasing, so lo is the number of inner points
+// col[1..n-2] below arg: counted without branches for the short tables of most springs (the binary search's
+// lo too, NaN included: 0), else the binary search.
 inline std::size_t SpringTable::left_interval(const std::vector<double>& col, double arg) {
-  std::size_t lo = 0, hi = col.size();
+  const std::size_t n = col.size();
+  if (n <= 8) {
+    std::size_t lo = 0;
+    for (std::size_t m = 1; m + 1 < n; ++m) lo += arg > col[m];
+    return lo;
+  }
+  std::size_t lo = 0, hi = n;
   while (hi > lo + 1) {
     const std::size_t mid = lo + (hi - lo) / 2;
     if (arg > col[mid])
@@ -62,7 +74,7 @@ inline std::size_t SpringTable::left_interval(const std::vector<double>& col, do
 
 [[gnu::always_inline]] inline SpringTable::Sample SpringTable::lookup(double s, bool fused) const {
   const std::size_t lo = left_interval(x_, s);
-  const double slope = (y_[lo + 1] - y_[lo]) / (x_[lo + 1] - x_[lo]);
+  const double slope = slope_[lo];
   // value written as y_lo + slope (s - x_lo): round-off decides whether F == 0 exactly (spec §17.9)
   if (fused) return {std::fma(slope, s - x_[lo], y_[lo]), slope};
   return {y_[lo] + slope * (s - x_[lo]), slope};

@@ -9,6 +9,11 @@
 // restart). Each step the owner of part1 evaluates the spring with part2 as a local or ghost atom
 // (closest image) and applies both forces; contributions to ghost atoms are summed back on their owners
 // in spring order by the layer, so newton on/off and the decomposition do not matter.
+//
+// Files: fix_parmec_spring.cpp (definitions, reference geometry, set-up, restart), _evaluate.cpp (one evaluation:
+// the loops on OpenMP threads, then each atom's sums in spring order), one file per loop (_general_loop.cpp,
+// _centre_loop.cpp, _plane_loop.cpp; the step they share inline in _step.h), _parmec_order.cpp, _critical.cpp,
+// _api.cpp (UNSPRING).
 #pragma once
 
 #include "definition_reader.h"
@@ -109,6 +114,10 @@ class FixParmecSpring : public state::PerAtomStateFix {
   // points from fix parmec/rigid's stored Λ, arms p - x, its relative velocity and (1/len)·w, and each atom's
   // contributions added run by run in Parmec's (part1, part2)-sorted spring order.
   bool parmec_order_ = false;
+  // 'loops general': every spring through the general loop, none through the loops per kind (their results are
+  // bitwise the general loop's; tests/python/test_parmec_spring_loops.py compares them)
+  bool general_loops_ = false;
+  bool report_loops_ = false;  // 'loops' given: setup logs the springs per loop
   LAMMPS_NS::Fix *rigid_ = nullptr;  // fix parmec/rigid: Λ per atom (local and ghost) as array_atom
   std::vector<long long> parmec_rank_;  // 2 per spring (part1, part2 side): flush event * nsprings + position
   void parmec_schedule();
@@ -181,12 +190,18 @@ class FixParmecSpring : public state::PerAtomStateFix {
   template <bool Parmec> int evaluate_spring(const EvalContext &ctx, int r);
   int evaluate_centres(const EvalContext &ctx, int r);  // committed centre-to-centre point spring, default order
   int evaluate_plane(const EvalContext &ctx, int r);    // committed plane carried by part2 from part1's centre
+  // The loops (each in its own file), called by every thread of evaluate()'s parallel region: this thread's
+  // share of the springs, OR of their flags. general_loop: rs[0..n).
+  int centre_loop(const EvalContext &ctx);
+  int plane_loop(const EvalContext &ctx);
+  int general_loop(const EvalContext &ctx, const int *rs, int n);
   int part2_of(const EvalContext &ctx, PlanItem &item, SpringResult &res, int &flags);
   int commit_force(const EvalContext &ctx, int r, int k, const springs::SpringFrame &frame, const springs::Vec3 *arm2);
   springs::Vec3 law_step(const EvalContext &ctx, const SpringDef &d, int i, int k, const springs::SpringFrame &frame,
                          springs::SpringState &state, double &eqm) const;
   int output_row(const EvalContext &ctx, int r, const springs::SpringState &state, double eqm, int k);
   std::vector<int> centre_r_, plane_r_, other_r_;  // evaluation indices of evaluate_centres', evaluate_plane's, others'
+  std::vector<int> all_r_;                         // 0 .. total-1 (every spring through the general loop)
   int centre_total_ = -1;                 // plan size the split was made for
   void split_plan(int total);
   std::vector<springs::BodyRotation> atom_rot_;  // per local/ghost atom, when the plane springs outnumber the atoms

@@ -132,8 +132,8 @@ void ComputePairGranLocal::compute_local()
   FixContactHistory *history = nhist_ > 0 ? pair->history() : nullptr;
   if (nhist_ > 0 && (!history || !history->list_valid()))
     fail_on_this_rank(lmp, FLERR, me + ": the contact history of pair style '" + std::string(force->pair_style) +
-                          "' is not aligned with the neighbour list at this point; use the compute only during a run "
-                          "(dump local, fix ave/histo, ...)");
+                                      "' is not aligned with the neighbour list at this point; use the compute only during a run "
+                                      "(dump local, fix ave/histo, ...)");
 
   refresh_ghost_velocities();
 
@@ -181,8 +181,8 @@ void ComputePairGranLocal::compute_local()
       const int itype = type[i], jtype = type[j];
       if (itype > max_type || jtype > max_type)
         fail_on_this_rank(lmp, FLERR, me + ": atom type " + std::to_string(std::max(itype, jtype)) +
-                              " is not covered by the material table of the pair style (types up to " +
-                              std::to_string(max_type) + ")");
+                                          " is not covered by the material table of the pair style (types up to " +
+                                          std::to_string(max_type) + ")");
       // Evaluate from the side of the smaller tag, so the row does not depend on which atom's
       // list holds the pair (rank and binning invariant). The history slot is the list owner's
       // view; the other atom's view is its negation (as the contact-history fix stores it).

@@ -319,7 +319,7 @@ void PairGran::loop_failed(const gran::PairLoopError &e)
 {
   if (e.kind == gran::PairLoopError::TypeAfterInit)
     fail_on_this_rank(lmp, FLERR, "pair_style " + style_name_ + ": atom type " + std::to_string(atom->type[e.i]) +
-                          " appeared after init; the material table only covers types up to " + std::to_string(table_.max_type()));
+                                      " appeared after init; the material table only covers types up to " + std::to_string(table_.max_type()));
   degenerate_contact(e.i, e.j, e.kind == gran::PairLoopError::Coincident);
 }
 
@@ -435,9 +435,9 @@ void PairGran::degenerate_contact(int i, int j, bool coincident)
                   xi[2], atom->tag[j], xj[0], xj[1], xj[2]);
   if (coincident)
     fail_on_this_rank(lmp, FLERR, p + " are coincident (centre distance below 1e-12 of the radius sum, or not finite): the contact "
-                          "normal is undefined; remove or move one of them (e.g. delete_atoms overlap)");
+                                      "normal is undefined; remove or move one of them (e.g. delete_atoms overlap)");
   fail_on_this_rank(lmp, FLERR, p + fmt::format(" have no finite effective mass (masses {} and {}); give them a positive mass", atom->rmass[i],
-                                    atom->rmass[j]));
+                                                atom->rmass[j]));
 }
 
 void PairGran::update_rigid_masses()

@@ -156,7 +156,7 @@ void FixWallGran::primitive_pass(bool update_history)
     const bool ok = wall.distance(x[i], radius[i], dist_minus_r, delta);
     if (!ok)
       fail_on_this_rank(lmp, FLERR, cmd_ + ": atom " + std::to_string(atom->tag[i]) +
-                            " lies on the cylinder axis; the wall normal is undefined (LIGGGHTS computes NaN forces here)");
+                                        " lies on the cylinder axis; the wall normal is undefined (LIGGGHTS computes NaN forces here)");
     if (dist_minus_r > 0.0) {  // not touching: the history is cleared at once (spec §3)
       if (records_.count(i)) records_.remove(i, 0);
       continue;
@@ -177,7 +177,7 @@ void FixWallGran::check_restored(int i)
 {
   if (records_.count(i) > capacity_)
     fail_on_this_rank(lmp, FLERR, cmd_ + ": the restart file holds " + std::to_string(records_.count(i)) + " wall contacts for atom " +
-                          std::to_string(atom->tag[i]) + ", more than this fix keeps (" + std::to_string(capacity_) + ")");
+                                      std::to_string(atom->tag[i]) + ", more than this fix keeps (" + std::to_string(capacity_) + ")");
 }
 
 // ---------------------------------------------------------------------------------------------

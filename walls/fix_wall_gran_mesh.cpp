@@ -73,7 +73,7 @@ void FixWallGran::mesh_pass(bool update_history)
           }
           if (records_.count(i) >= cap)
             fail_on_this_rank(lmp, FLERR, cmd_ + ": atom " + std::to_string(atom->tag[i]) + " touches more than " + std::to_string(cap) +
-                                  " mesh triangles at once (mesh contact history overflow)");
+                                              " mesh triangles at once (mesh contact history overflow)");
           records_.append(i, key);
           slot = records_.count(i) - 1;
           if (face && nv > 0)  // carry the shear spring across a flat shared edge (last partner wins)

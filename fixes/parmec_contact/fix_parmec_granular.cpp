@@ -364,10 +364,10 @@ void FixParmecGranular::place_bodies(std::vector<int> &skip)
     if (i < 0 || i >= atom->nlocal) continue;
     if (color_of(i) > 0)
       fail_on_this_rank(lmp, FLERR, fmt::format("{}: mesh {}: the atom of a MESH body must have colour <= 0 (it has no sphere "
-                                    "shape), got {}", cmd_, bodies_[b].tag(), color_of(i)));
+                                                "shape), got {}", cmd_, bodies_[b].tag(), color_of(i)));
     if (!(atom->mask[i] & rigid_->groupbit))
       fail_on_this_rank(lmp, FLERR, fmt::format("{}: mesh {}: the body atom is not in the group of fix {} parmec/rigid (its "
-                                    "rotation places the surface)", cmd_, bodies_[b].tag(), rigid_->id));
+                                                "rotation places the surface)", cmd_, bodies_[b].tag(), rigid_->id));
     skip[i] = 1;
     pc::BodyPose pose;
     const double *L = rigid_->array_atom[i];

@@ -1,5 +1,6 @@
 // fix parmec/rigid: see fix_parmec_rigid.h and doc/fix_parmec_rigid.md.
 #include "fix_parmec_rigid.h"
+#include "rank_error.h"
 #include "definition_file.h"
 #include "state/table_registry.h"
 
@@ -127,7 +128,7 @@ FixParmecRigid::FixParmecRigid(LAMMPS *lmp, int narg, char **arg) : PerAtomState
     clusters_ = std::make_unique<rigid::JointClusters>(int(body_tags_.size()), defs);
     if (!joint_file_.empty() && comm->me == 0) {
       joint_fp_ = fopen(joint_file_.c_str(), "w");
-      if (!joint_fp_) error->one(FLERR, cmd_ + ": joint_output: cannot open '" + joint_file_ + "'");
+      if (!joint_fp_) fail_on_this_rank(lmp, FLERR, cmd_ + ": joint_output: cannot open '" + joint_file_ + "'");
       fprintf(joint_fp_, "STEP");
       for (const auto &j : joint_in_)
         fprintf(joint_fp_, ",j%ld_JREAC_X,j%ld_JREAC_Y,j%ld_JREAC_Z,j%ld_|JREAC|", j.id, j.id, j.id, j.id);

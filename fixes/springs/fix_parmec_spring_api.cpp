@@ -1,5 +1,6 @@
 // fix parmec/spring: the API for UNSPRING (fixes/torsion glue; doc/fix_parmec_spring.md "API for UNSPRING").
 #include "fix_parmec_spring.h"
+#include "rank_error.h"
 #include "fix_parmec_spring_slot.h"
 
 #include "atom.h"
@@ -82,7 +83,7 @@ void FixParmecSpring::gather_entity(Entity e, std::vector<double> &out)
 
 bool FixParmecSpring::set_state_code(int spring, int code)
 {
-  if (code < sp::kRegular) error->one(FLERR, cmd_ + ": set_state_code: code must be >= -3");
+  if (code < sp::kRegular) fail_on_this_rank(lmp, FLERR, cmd_ + ": set_state_code: code must be >= -3");
   double *slot = const_cast<double *>(owned_slot(spring));
   if (!slot) return false;
   hot_valid_ = false;  // the next step reloads the states from the records

@@ -1,5 +1,6 @@
 // fix parmec/spring: CRITICAL time-step estimates and the EQM with full inertia tensors (spec §12, §13).
 #include "fix_parmec_spring.h"
+#include "rank_error.h"
 #include "fix_parmec_spring_slot.h"
 
 #include "critical_step.h"
@@ -74,8 +75,8 @@ void FixParmecSpring::critical()
       if (d.tag2 >= 0) {
         k = atom->map(d.tag2);
         if (k < 0)
-          error->one(FLERR, fmt::format("{}: CRITICAL: spring {}: part2 atom {} is not available (run at least "
-                                        "'run 0' first, or raise 'comm_modify cutoff')", cmd_, d.id, d.tag2));
+          fail_on_this_rank(lmp, FLERR, fmt::format("{}: CRITICAL: spring {}: part2 atom {} is not available (run at least "
+                                                    "'run 0' first, or raise 'comm_modify cutoff')", cmd_, d.id, d.tag2));
         const sp::BodyMass b2 = body(k);
         m_s = sp::equivalent_mass(b1, d.arm1, &b2, d.arm2, zdir);
       } else {

@@ -1,6 +1,7 @@
 // fix parmec/spring: one evaluation of the springs owned here (the loops on OpenMP threads, then every atom's
 // contributions in spring order), its plan, its output rows and failures.
 #include "fix_parmec_spring_step.h"
+#include "rank_error.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -284,14 +285,14 @@ void FixParmecSpring::report_failure(const SpringResult &res)
     case Failure::Part2Missing:
       second_atom_missing(res.key, " above the longest spring");
     case Failure::TooLong:
-      error->one(FLERR, fmt::format("{}: spring {} between atoms {} and {} is {:.6g} long, longer than the ghost "
-                                    "cutoff {:.6g}: raise 'comm_modify cutoff' above the longest spring",
-                                    cmd_, d.id, d.tag1, d.tag2, res.value, cutghost_));
+      fail_on_this_rank(lmp, FLERR, fmt::format("{}: spring {} between atoms {} and {} is {:.6g} long, longer than the ghost "
+                                                "cutoff {:.6g}: raise 'comm_modify cutoff' above the longest spring",
+                                                cmd_, d.id, d.tag1, d.tag2, res.value, cutghost_));
     case Failure::Kernel:
     case Failure::None:
       break;
   }
-  error->one(FLERR, fmt::format("{}: spring {}: {}", cmd_, d.id, failure_text_[res.key]));
+  fail_on_this_rank(lmp, FLERR, fmt::format("{}: spring {}: {}", cmd_, d.id, failure_text_[res.key]));
 }
 
 }  // namespace dembridge

@@ -22,8 +22,8 @@ void PerAtomRecordsFix::set_records_per_atom(int most)
 void PerAtomRecordsFix::restart_mismatch(int i)
 {
   fail_on_this_rank(lmp, FLERR, fmt::format("{}: the restart file's data for atom {} are not whole records of {} values (the fix "
-                                "had another model, or another dembridge version wrote the file): define the fix as "
-                                "before write_restart", cmd_, atom->tag[i], records_.record_size()));
+                                            "had another model, or another dembridge version wrote the file): define the fix as "
+                                            "before write_restart", cmd_, atom->tag[i], records_.record_size()));
 }
 
 double PerAtomRecordsFix::memory_usage()

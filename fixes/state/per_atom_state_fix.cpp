@@ -80,8 +80,8 @@ std::vector<AtomSnapshot> PerAtomStateFix::snapshot_entity_atoms()
 void PerAtomStateFix::second_atom_missing(int key, const char *hint)
 {
   fail_on_this_rank(lmp, FLERR, fmt::format("{}: {}: part2 atom {} is not available to the owner of part1 atom {} (not a ghost, "
-                                "or lost): raise 'comm_modify cutoff'{}", cmd_, who(key), atoms_[key].second,
-                                atoms_[key].first, hint));
+                                            "or lost): raise 'comm_modify cutoff'{}", cmd_, who(key), atoms_[key].second,
+                                            atoms_[key].first, hint));
 }
 
 int PerAtomStateFix::second_atom(int key, int i, bool closest_image, const char *hint)
@@ -103,7 +103,7 @@ void PerAtomStateFix::check_restored(int i)
   for (int r = 0; r < records_.count(i); r++)
     if (!restored_record_fits(i, records_.record(i, r)))
       fail_on_this_rank(lmp, FLERR, fmt::format("{}: restart file holds {} states that do not match the definitions (define the "
-                                    "same {}s in the same order as before write_restart)", cmd_, noun_, noun_));
+                                                "same {}s in the same order as before write_restart)", cmd_, noun_, noun_));
 }
 
 // ---------------------------------------------------------------------------------------------------

@@ -1,15 +1,11 @@
 #include <sys/resource.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
 #include <stdexcept>
-#include <vector>
 
+#include "bare_exchange.h"
 #include "exchange_bench.h"
-#include "negotiation.h"
-#include "nodal_config.h"
 
 namespace dembridge::mbdyn::bench {
 
@@ -25,36 +21,21 @@ double cpu_seconds() {
 }  // namespace
 
 int run_bare_client(const Place& place, const BenchShape& shape) {
-  NodalConfig config;
-  config.num_points = shape.nodes;
   try {
-    const int fd = connect_to(place, 60.0);
-    const auto request = negotiation_request_bytes(config);
-    write_full(fd, request.data(), request.size());
-    std::uint8_t reply = 0;
-    if (read_full(fd, &reply, 1) != 1 || reply != 8) throw std::runtime_error("negotiation refused");
-    std::vector<std::uint8_t> kin(1 + config.kinematics_payload_bytes());
-    std::vector<std::uint8_t> loads(1 + config.loads_payload_bytes(), 0);
-    loads[0] = 6;
+    BareExchange x(place, shape.nodes, 60.0);
     // The t0 exchange (LAMMPS: setup) is outside the timed loop, as in LAMMPS' loop time.
-    if (read_full(fd, kin.data(), kin.size()) != kin.size()) throw std::runtime_error("no t0 kinematics");
-    write_full(fd, loads.data(), loads.size());
+    x.send();
     const auto t0 = std::chrono::steady_clock::now();
     auto t_last = t0;
     const double cpu0 = cpu_seconds();
     long exchanges = 0;
-    for (;;) {
-      // One recv, as fix mbdyn's: the 5 at the end comes alone (the peer then waits for our close).
-      const long got = ::recv(fd, kin.data(), kin.size(), 0);
-      if (got >= 1 && kin[0] == 5) break;
-      if (got <= 0 || read_full(fd, kin.data() + got, kin.size() - got) != kin.size() - got)
-        throw std::runtime_error("short kinematics message");
-      write_full(fd, loads.data(), loads.size());
+    while (x.receive()) {
+      x.send();
       t_last = std::chrono::steady_clock::now();
       ++exchanges;
     }
     const double cpu = cpu_seconds() - cpu0;
-    ::close(fd);
+    x.finish();
     const double wall = std::chrono::duration<double>(t_last - t0).count();
     std::printf("mbdyn_bench_peer client: %ld exchanges, wall %.3f us, cpu %.3f us per exchange\n", exchanges,
                 exchanges ? 1e6 * wall / exchanges : 0.0, exchanges ? 1e6 * cpu / exchanges : 0.0);

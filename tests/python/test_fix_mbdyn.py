@@ -614,3 +614,63 @@ def test_tight_iterations_do_not_disturb_the_particles(sockdir):
         print(f"bed deviation, max_iterations 2 (1 re-evaluation/step) vs {key} ({exchanges[key]} messages): "
               f"{dev:.2e} (bed moved {moved:.3f})")
         assert dev < 1e-12
+
+
+# ------------------------------------------------------------------------------------------------
+# fix mbdyn/floor: the bench's floor instrument (issue 12, P5; bench/run_mbdyn_exchange_bench.py).
+# It must do exactly one exchange per step, answer every message the way MBDyn expects (the bench
+# peer checks each answer's command and length and fails otherwise), end cleanly on the peer's 5,
+# and report its profile line per run. A wrong answer or a missed exchange makes the peer fail.
+
+def bench_peer():
+    base = os.path.dirname(os.path.abspath(plugin_path()))
+    exe = os.path.join(base, "coupling", "mbdyn_bench_peer")
+    return exe if os.path.exists(exe) else None
+
+
+FLOOR_DECK = """plugin load ${{plugin}}
+units si
+atom_style sphere
+boundary f f f
+region box block -1 1 -1 1 -1 1
+create_box 1 box
+create_atoms 1 single 0.1 0 0 units box
+set atom 1 diameter 0.05 density 1000
+timestep 0.001
+fix F all mbdyn/floor {where} nodes 3 profile yes
+run 80
+run 48
+"""
+
+
+@pytest.mark.skipif(bench_peer() is None, reason="needs the mbdyn_bench_peer executable")
+@pytest.mark.parametrize("kind", ["unix", "tcp"])
+def test_floor_instrument_exchanges_once_per_step(sockdir, kind):
+    exe = bench_peer()
+    where = ["--path", os.path.join(sockdir, "f.sock")] if kind == "unix" else ["--port", "0"]
+    # 1 t0 message + 128 steps; an exchange more or fewer would fail the peer or LAMMPS
+    peer = subprocess.Popen([exe, "serve", *where, "--nodes", "3", "--messages", "129"], stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+    line = peer.stdout.readline()
+    assert "listening" in line, line
+    at = f"path {where[1]}" if kind == "unix" else f"port {line.split()[-1]}"
+    rc, out, _ = run_lammps(FLOOR_DECK.format(where=at), sockdir, timeout=60)
+    pout, _ = peer.communicate(timeout=30)
+    assert rc == 0, out[-3000:]
+    assert peer.returncode == 0, pout
+    lines = [l.split(",")[0] for l in out.splitlines() if l.startswith("Fix mbdyn/floor (id F) profile:")]
+    assert lines == ["Fix mbdyn/floor (id F) profile: 80 steps", "Fix mbdyn/floor (id F) profile: 48 steps"], out[-3000:]
+
+
+@pytest.mark.parametrize("old,new,expect", [
+    ("nodes 3", "nodes 0", "keyword 'nodes' expects a positive node count, got 0"),
+    ("profile yes", "profile maybe", "keyword 'profile' expects yes or no, got 'maybe'"),
+    ("nodes 3", "nodes 3 speed 9", "unknown keyword 'speed'"),
+    ("path never.sock", "", "give exactly one socket"),
+])
+def test_floor_instrument_bad_input(sockdir, old, new, expect):
+    rc, out, secs = run_lammps(FLOOR_DECK.format(where="path never.sock").replace(old, new, 1), sockdir, timeout=60)
+    err = error_line(out)
+    assert rc != 0
+    assert "Fix mbdyn/floor (id F)" in err and expect in err, err
+    assert secs < 15

@@ -359,7 +359,8 @@ def main():
     ap.add_argument("--library", action="store_true", help="also the protocol library's ExchangeCost figures")
     ap.add_argument("--pin", action="store_true", help="LAMMPS and the bare client on CPU 0, the peer on CPU 1 (taskset)")
     a = ap.parse_args()
-    plugin = a.plugin or os.path.join(a.build, "dembridgeplugin.so")
+    a.build = os.path.abspath(a.build)  # LAMMPS runs in a scratch directory
+    plugin = os.path.abspath(a.plugin or os.path.join(a.build, "dembridgeplugin.so"))
     print(f"MBDyn exchange bench: {NODES} nodes, plugin {plugin}{', pinned (LAMMPS CPU 0, peer CPU 1)' if a.pin else ''}"
           f"\nuptime: {uptime()}", flush=True)
     work = tempfile.mkdtemp(prefix="mbx", dir="/tmp")
@@ -443,7 +444,7 @@ def main():
                   "`profile yes` clock, in the same rounds:",
                   ["socket", "floor us/step wall (cpu)", "floor cpu us/step (receive, send)", "floor share of the step's cpu",
                    "floor share of the wall", "floor - plain, cpu / wall", "fix share of the cpu (wall)",
-                   "fix - floor: its own added share, cpu", "fix - floor, wall", "coupled - floor deck, cpu (rusage)",
+                   "fix - floor: its own added share, cpu", "fix - floor, wall", "(coupled - plain) - (floor - plain) decks, cpu (rusage)",
                    "P5 (<= 2 %)"],
                   [[kind, f"{m['big_floor']:.0f} ({m['big_floor_cpu']:.0f})",
                     f"{m['floor_cpu']:.1f} ({m['floor_receive_cpu']:.1f}, {m['floor_loads_cpu']:.1f})",

@@ -15,10 +15,12 @@ its values negated (restoring in that geometry; same cost).
 Measures, for every kind:
 - callgrind (load-independent): instructions per spring-step of the spring fix's post_force only, and
   of the whole step (Verlet::run: integration, gravity, communication, the fix), at 1e4 springs over
-  --ir-steps steps, collected inside Verlet::run only (setup excluded);
+  --ir-steps steps, collected inside Verlet::run only (setup excluded); with config 1r2t also every thread's
+  instructions per spring-step of the whole step (callgrind --separate-threads, difference of a --ir-steps and a
+  3 x --ir-steps run), 1 thread against the busiest of 2 threads (the Ir speed-up of the threads);
 - wall time: LAMMPS 'Loop time' per spring-step at 1e5 springs, 1 rank and 2 ranks (and 1 rank x 2
-  OpenMP threads with 'package omp 2'), median of --rounds interleaved rounds, with `uptime` before and
-  after. Wall times on the shared 2-core machine are noise-prone: the Ir ratio is the acceptance figure.
+  OpenMP threads with 'package omp 2' and 'suffix omp', as a user threads a deck), median of --rounds
+  interleaved rounds, with `uptime` before and after. Wall times on the shared 2-core machine are noise-prone: the Ir ratio is the acceptance figure.
 
 usage: /work/main/.venv/bin/python bench/run_springs_bench.py [--steps 200] [--rounds 3] [--ir-steps 20]
        [--kinds follower,...] [--no-wall] [--no-callgrind] [--configs 1r,2r,1r2t] [--plugin PATH]
@@ -26,6 +28,7 @@ Outputs: bench/out/springs/results.md and runs.csv (git-ignored), and the table 
 """
 import argparse
 import datetime
+import glob
 import os
 import re
 import shutil
@@ -100,8 +103,9 @@ def deck(path, springs_file, nx, ny, nz, steps, plugin, threads, kind):
     # planes carried by part2 rotate with it: per-atom quaternions (bpm/sphere), as Parmec's rigid particles
     rotating = kind.startswith("plane")
     lines = [f"plugin load {plugin}"]
-    if threads > 1:
-        lines.append(f"package omp {threads}")
+    if threads > 1:  # as a user threads a deck: every style with an /omp variant takes it (LAMMPS's nve/sphere/omp
+        # and gravity/omp, the plugin's nve/bpm/sphere/omp; parmec/spring threads under 'package omp' itself)
+        lines += [f"package omp {threads}", "suffix omp"]
     lines += [
         "units si", "atom_style bpm/sphere" if rotating else "atom_style sphere", "boundary m m m", "atom_modify map array",
         "comm_modify vel yes cutoff 2.5", "neighbor 0.3 bin", "neigh_modify every 10 delay 0 check yes",
@@ -167,6 +171,40 @@ def callgrind_ir(lmp, deck_path, out_file):
     return total, post
 
 
+def callgrind_thread_ir(lmp, deck_path, out_file):
+    """Ir of every thread over the whole run ({thread number: Ir}; 1 = the master), callgrind --separate-threads:
+    the worker threads never enter Verlet::run, so the whole run is collected and the setup cancelled by
+    taking the difference of two step counts (callgrind_threads_per_step)."""
+    env = dict(os.environ, LD_LIBRARY_PATH=os.path.join(VENV, "lib"), OMP_WAIT_POLICY="passive")  # no spin Ir
+    for f in glob.glob(out_file + "*"):
+        os.remove(f)
+    cmd = ["valgrind", "--tool=callgrind", "--separate-threads=yes", f"--callgrind-out-file={out_file}", lmp, "-in",
+           deck_path, "-log", "none", "-screen", "none", "-nocite"]
+    p = subprocess.run(cmd, cwd=OUT, capture_output=True, text=True, env=env)
+    if p.returncode != 0:
+        sys.exit(f"callgrind run failed:\n{p.stdout}{p.stderr[-3000:]}")
+    per = {}
+    for f in glob.glob(out_file + "-*"):
+        with open(f) as fh:
+            m = re.search(r"^summary:\s*(\d+)", fh.read(), re.M)
+        if m:
+            per[int(f.rsplit("-", 1)[1])] = int(m.group(1))
+    return per
+
+
+def callgrind_threads_per_step(lmp, springs_file, n, kind, threads, steps, plugin):
+    """Ir per spring-step of every thread (sorted, busiest first) of the whole step, from runs of `steps` and
+    3 x `steps` steps (their difference: the setup, lattice and definitions cancel)."""
+    nx, ny, nz = SIZES["1e4"]
+    runs = []
+    for nsteps in (steps, 3 * steps):
+        dk = os.path.join(OUT, f"in.irt_{kind}_{threads}_{nsteps}")
+        deck(dk, springs_file, nx, ny, nz, nsteps, plugin, threads, kind)
+        runs.append(callgrind_thread_ir(lmp, dk, os.path.join(OUT, f"callgrind.t{threads}.{kind}.{nsteps}")))
+    per = [(runs[1][t] - runs[0].get(t, 0)) / (2 * steps * n) for t in runs[1]]
+    return sorted((v for v in per if v > 1.0), reverse=True)  # idle helper threads (~0 Ir per step) left out
+
+
 def ratio(a, b):
     return f"{a / b:.2f}" if (a is not None and b) else "-"
 
@@ -207,6 +245,18 @@ def main():
             print(f"callgrind {kind}: {n} springs x {a.ir_steps} steps: post_force {ir[kind][0]:.0f} Ir, whole step "
                   f"{ir[kind][1]:.0f} Ir per spring-step (Parmec loop {fmt(PARMEC[kind]['ir'][0])}, "
                   f"step {fmt(PARMEC[kind]['ir'][1])})", flush=True)
+
+    thr = {}  # kind -> (1-thread Ir per spring-step, busiest thread's with 2 threads, all threads' with 2)
+    if not a.no_callgrind and "1r2t" in configs:
+        nx, ny, nz = SIZES["1e4"]
+        for kind in kinds:
+            sf = os.path.join(OUT, f"ir_{kind}.springs")
+            n = write_springs(sf, kind, nx, ny, nz)
+            one = callgrind_threads_per_step(raw_lmp(), sf, n, kind, 1, a.ir_steps, plugin)
+            two = callgrind_threads_per_step(raw_lmp(), sf, n, kind, CONFIGS["1r2t"][1], a.ir_steps, plugin)
+            thr[kind] = (one[0], two[0], sum(two))
+            print(f"callgrind threads {kind}: whole step, Ir per spring-step: 1 thread {one[0]:.0f}; 2 threads: busiest "
+                  f"{two[0]:.0f}, all {sum(two):.0f} (speed-up by Ir {one[0] / two[0]:.2f})", flush=True)
 
     ns, ke, busy = {}, {}, {}  # busy: wall ns x CPU share, the time had the run had its cores (loaded machine)
     runs = ["kind,config,round,springs,steps,loop_s,cpu_share,ns_per_spring_step,final_ke"]
@@ -257,6 +307,16 @@ def main():
             verdict = "met" if rl and pl <= rl and (rs is None or ps <= rs) else ("NOT met" if rl else "-")
             md.append(f"| {kind} | {pl:.0f} | {fmt(rl)} | {ratio(pl, rl)} | {ps:.0f} | {fmt(rs)} | {ratio(ps, rs)} | "
                       f"{verdict} |")
+        md.append("")
+    if thr:
+        md += ["1r2t by callgrind (whole step, per thread; `package omp 2` + `suffix omp`, the difference of a "
+               f"{a.ir_steps}- and a {3 * a.ir_steps}-step run, OMP_WAIT_POLICY=passive):", "",
+               "| kind | 1 thread Ir/spring-step | 2 threads: busiest thread | both threads | speed-up (1 thread / busiest) |",
+               "|---|---|---|---|---|"]
+        for kind in kinds:
+            if kind in thr:
+                o, b, t = thr[kind]
+                md.append(f"| {kind} | {o:.0f} | {b:.0f} | {t:.0f} | {o / b:.2f} |")
         md.append("")
     if ns:
         head = "| kind |"

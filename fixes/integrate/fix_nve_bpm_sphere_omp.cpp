@@ -81,61 +81,62 @@ void FixNVEBPMSphereOMP::setup(int)
 #endif
 }
 
-// First half step: v and omega by half a step, x by a full step, the quaternion by omega (all per atom:
-// the order of the atoms over the threads does not matter). The expressions are the built-in's, in its order.
-void FixNVEBPMSphereOMP::initial_integrate(int)
+// The arrays and constants of one integration step, copied out of Atom and the fix once: an opaque call in the
+// loop (the quaternion routine) then cannot make the compiler load them again for every atom.
+struct FixNVEBPMSphereOMP::Step {
+  double *const *x, *const *v, *const *omega, *const *quat;
+  const double *const *f, *const *torque;
+  const double *radius, *rmass;
+  double dtv, dtf, inertia;
+
+  // Half a step of v and omega of atom i (the built-in's expressions, in its order).
+  void kick(int i) const
+  {
+    const double dtfm = dtf / rmass[i];
+    for (int c = 0; c < 3; c++) v[i][c] += dtfm * f[i][c];
+    const double dtirotate = dtf / (inertia * (radius[i] * radius[i] * rmass[i]));
+    for (int c = 0; c < 3; c++) omega[i][c] += dtirotate * torque[i][c];
+  }
+};
+
+FixNVEBPMSphereOMP::Step FixNVEBPMSphereOMP::step() const
 {
-  double *const *const x = atom->x;
-  double *const *const v = atom->v;
-  const double *const *const f = atom->f;
-  double *const *const omega = atom->omega;
-  const double *const *const torque = atom->torque;
-  double *const *const quat = atom->quat;
-  const double *const radius = atom->radius;
-  const double *const rmass = atom->rmass;
+  return {atom->x, atom->v, atom->omega, atom->quat, atom->f, atom->torque, atom->radius, atom->rmass,
+          dtv_, dtf_, inertia_};
+}
+
+// per(i) for every atom of the group, on the threads (each atom on its own: the split does not matter).
+template <class Per> void FixNVEBPMSphereOMP::each_atom(Per per) const
+{
   const int *const mask = atom->mask;
   const int nlocal = (igroup == atom->firstgroup) ? atom->nfirst : atom->nlocal;
   const int bit = groupbit;
-  const double dtv = dtv_, dtf = dtf_, dtq = 0.5 * dtv_, inertia = inertia_;
   [[maybe_unused]] const int nthreads = threads();
 #if defined(_OPENMP)
-#pragma omp parallel for num_threads(nthreads) schedule(static) if (nthreads > 1)
+#pragma omp parallel for num_threads(nthreads) schedule(static) if (nthreads > 1) firstprivate(per)
 #endif
-  for (int i = 0; i < nlocal; i++) {
-    if (!(mask[i] & bit)) continue;
-    const double dtfm = dtf / rmass[i];
-    for (int c = 0; c < 3; c++) v[i][c] += dtfm * f[i][c];
-    for (int c = 0; c < 3; c++) x[i][c] += dtv * v[i][c];
-    const double dtirotate = dtf / (inertia * (radius[i] * radius[i] * rmass[i]));
-    for (int c = 0; c < 3; c++) omega[i][c] += dtirotate * torque[i][c];
-    MathExtra::richardson_sphere(quat[i], omega[i], dtq);
-  }
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & bit) per(i);
+}
+
+// First half step: v and omega by half a step, x by a full step, the quaternion by the new omega. (The
+// built-in updates x before omega; the two do not depend on each other, so the numbers are the same.)
+void FixNVEBPMSphereOMP::initial_integrate(int)
+{
+  const Step s = step();
+  const double dtq = 0.5 * s.dtv;
+  each_atom([s, dtq](int i) {
+    s.kick(i);
+    for (int c = 0; c < 3; c++) s.x[i][c] += s.dtv * s.v[i][c];
+    MathExtra::richardson_sphere(s.quat[i], s.omega[i], dtq);
+  });
 }
 
 // Second half step: v and omega by half a step.
 void FixNVEBPMSphereOMP::final_integrate()
 {
-  double *const *const v = atom->v;
-  const double *const *const f = atom->f;
-  double *const *const omega = atom->omega;
-  const double *const *const torque = atom->torque;
-  const double *const radius = atom->radius;
-  const double *const rmass = atom->rmass;
-  const int *const mask = atom->mask;
-  const int nlocal = (igroup == atom->firstgroup) ? atom->nfirst : atom->nlocal;
-  const int bit = groupbit;
-  const double dtf = dtf_, inertia = inertia_;
-  [[maybe_unused]] const int nthreads = threads();
-#if defined(_OPENMP)
-#pragma omp parallel for num_threads(nthreads) schedule(static) if (nthreads > 1)
-#endif
-  for (int i = 0; i < nlocal; i++) {
-    if (!(mask[i] & bit)) continue;
-    const double dtfm = dtf / rmass[i];
-    for (int c = 0; c < 3; c++) v[i][c] += dtfm * f[i][c];
-    const double dtirotate = dtf / (inertia * (radius[i] * radius[i] * rmass[i]));
-    for (int c = 0; c < 3; c++) omega[i][c] += dtirotate * torque[i][c];
-  }
+  const Step s = step();
+  each_atom([s](int i) { s.kick(i); });
 }
 
 static RegisterStyle reg_fix_nve_bpm_sphere_omp("fix", "nve/bpm/sphere/omp",

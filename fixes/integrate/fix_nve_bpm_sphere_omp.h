@@ -30,6 +30,9 @@ class FixNVEBPMSphereOMP : public LAMMPS_NS::Fix {
   double dtv_ = 0.0;       // dt
   double dtf_ = 0.0;       // dt/2 in force units (ftm2v)
   int threads() const;     // the threads of `package omp N` (1 without OpenMP)
+  struct Step;
+  Step step() const;
+  template <class Per> void each_atom(Per per) const;
 };
 
 }  // namespace dembridge

@@ -3,7 +3,7 @@
 # build tree: the translation units that use OpenMP, compiled here without it (-Wunknown-pragmas
 # catches an unguarded pragma; warnings are errors when the build has them on).
 if(DEMBRIDGE_BUILD_TESTS AND DEMBRIDGE_OPENMP)
-  set(_sources pair_styles/pair_gran_omp.cpp fixes/fix_contact_history.cpp)
+  set(_sources pair_styles/pair_gran_omp.cpp fixes/fix_contact_history.cpp fixes/integrate/fix_nve_bpm_sphere_omp.cpp)
   set(_libs LAMMPS::lammps dembridge_materials dembridge_contact dembridge_threads)
   if(TARGET dembridge_springs)
     list(APPEND _sources fixes/springs/fix_parmec_spring.cpp)

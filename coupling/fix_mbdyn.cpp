@@ -692,6 +692,7 @@ void FixMBDyn::bind_atoms()
     if (!n.is_atom) one_atom_per_node_ = false;
   node_tags_.clear();
   node_index_.clear();
+  ++tags_version_;  // the node atoms' local indices must be looked up again
   for (const auto &tm : member_list_) {
     node_tags_.push_back(tm.first);
     node_index_.push_back(tm.second.node);

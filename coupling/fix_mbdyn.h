@@ -136,6 +136,9 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   std::vector<LAMMPS_NS::tagint> node_tags_;  // one_atom_per_node_: member_list_'s tags,
   std::vector<int> node_index_;                // their nodes,
   std::vector<int> node_local_;                // their local indices (-1: not owned here), per use
+  LAMMPS_NS::bigint node_local_build_ = -1;    // neighbor->ncalls when node_local_ was looked up
+  int node_local_nlocal_ = -1;                 // and atom->nlocal then
+  long long node_local_tags_ = -1, tags_version_ = 0;  // node_tags_ then and now (bind_atoms bumps it)
   std::vector<double> local_loads_, step_loads_, avg_;              // per-step buffers, reused
   std::unique_ptr<mbdyn::Loads> answer_;                            // the loads message, reused
   std::vector<MbdynMeshDriver> meshes_;  // node mesh entries, in order

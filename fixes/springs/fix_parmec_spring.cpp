@@ -4,6 +4,7 @@
 #include "fix_parmec_spring_slot.h"
 #include "definition_file.h"
 
+#include "serial_fix_note.h"
 #include "style_registry.h"
 
 #include "body_rotation.h"
@@ -366,6 +367,7 @@ void FixParmecSpring::post_run()
   int most = 0;
   MPI_Allreduce(&used, &most, 1, MPI_INT, MPI_MAX, world);
   if (most > 1 && comm->me == 0) utils::logmesg(lmp, "{}: spring loop on {} OpenMP threads\n", cmd_, most);
+  note_serial_fixes(lmp, cmd_);  // fixes left on one thread (no 'suffix omp'), fixes/integrate/serial_fix_note.h
   threads_used_ = 0;
 }
 

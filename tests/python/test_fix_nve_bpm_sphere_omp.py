@@ -84,6 +84,10 @@ def test_explicit_omp_style_is_bitwise_the_builtin(tmp_path, builtin, threads):
     assert fix_style(log) == "nve/bpm/sphere/omp"
     assert ("integration on 2 OpenMP threads" in log) == (threads == 2)
     assert dump == builtin
+    if threads == 2:  # without 'suffix omp' fix gravity stays serial, and the spring fix says so (once per run)
+        note = [line for line in log.splitlines() if "ran on one thread" in line]
+        assert note == ["fix S parmec/spring: under package omp 2, fix G (gravity) ran on one thread; their /omp "
+                        "variants would thread them (suffix omp, or -sf omp)"], log[-3000:]
 
 
 @pytest.mark.parametrize("how", ["sf", "suffix"])
@@ -96,6 +100,7 @@ def test_suffix_picks_it_and_stays_bitwise(tmp_path, builtin, how):
         log, dump = run(tmp_path / "run", deck("nve/bpm/sphere", threads=2, suffix=True), 2)
     assert fix_style(log) == "nve/bpm/sphere/omp"
     assert "integration on 2 OpenMP threads" in log
+    assert "ran on one thread" not in log
     assert dump == builtin
 
 

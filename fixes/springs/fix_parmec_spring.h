@@ -183,6 +183,7 @@ class FixParmecSpring : public state::PerAtomStateFix {
   std::unordered_map<int, std::string> failure_text_;  // kernel messages by spring index
   std::vector<int> inc_key_, inc_atom1_, inc_atom2_;    // per evaluation index: key, local atoms touched
   state::LocalIncidence incidence_;
+  std::vector<char> torque_free_;  // per local atom: every spring's torque on it is a signed zero (built with incidence_)
   int threads_used_ = 0;  // most OpenMP threads of the spring loop in this run
   // Returns kMoved if part2's index differs from the plan's (the plan is updated), kFailed on a failure.
   enum : int { kMoved = 1, kFailed = 2 };

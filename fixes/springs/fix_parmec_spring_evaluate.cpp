@@ -148,6 +148,11 @@ void FixParmecSpring::evaluate(Mode mode)
     }
     incidence_.update(nlocal, total, inc_key_.data(), inc_atom1_.data(), inc_atom2_.data());
     incidence_current_ = all;  // otherwise rebuilt next time (the springs applied may change)
+    // atoms whose every contribution has a zero torque (centre attachments: +0 on part1's side, -0 on part2's)
+    torque_free_.assign(nlocal, 1);
+    for (int i = 0; i < nlocal; i++)
+      for (const state::LocalIncidence::Term *t = incidence_.begin(i); t != incidence_.end(i); ++t)
+        if (!(t->side == 0 ? defs_[t->key].arm1_zero : defs_[t->key].arm2_zero)) torque_free_[i] = 0;
   }
   for (const int r : ghost_r_) contribute(results_[r].k, results_[r].key, results_[r].ft + 6, 1.0);
   collect_sums();
@@ -164,9 +169,15 @@ void FixParmecSpring::evaluate(Mode mode)
     if (sums_.empty(i)) {
       if (t0 == t1) continue;
       double acc[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};  // its own array: it stays in registers
+      // Only forces if every torque is a signed zero: skipping them is exact, since a sum that starts at +0
+      // never becomes -0 (x + y is -0 only if both are), so adding +0 or -0 leaves it as it is.
+      const int width = torque_free_[i] ? 3 : 6;
       for (const state::LocalIncidence::Term *t = t0; t != t1; ++t) {
         const double *v = results_[t->r].ft + 6 * t->side;  // signs applied (part2's side stored negated)
-        for (int c = 0; c < 6; c++) acc[c] += v[c];
+        if (width == 3)
+          for (int c = 0; c < 3; c++) acc[c] += v[c];
+        else
+          for (int c = 0; c < 6; c++) acc[c] += v[c];
       }
       add_to_atom(i, acc);
     } else {
@@ -231,11 +242,20 @@ void FixParmecSpring::split_plan(int total)
   centre_total_ = total;
 }
 
-// Pack the states advanced in hot_ into their records (plan order).
+// Pack the states advanced in hot_ into their records (plan order), with the force of the last committed step
+// (results_[r], which only Commit evaluations write between syncs: trial and setup ones sync first): the
+// records are written only here, not by every step.
 void FixParmecSpring::sync_records() const
 {
   if (!hot_dirty_) return;
-  for (std::size_t r = 0; r < hot_.size(); r++) hot_[r].pack(plan_[r].slot + 1);
+  for (std::size_t r = 0; r < hot_.size(); r++) {
+    double *slot = plan_[r].slot;
+    hot_[r].pack(slot + 1);
+    const SpringResult &res = results_[r];
+    if (!res.apply) continue;
+    for (int c = 0; c < 3; c++) slot[kForce + c] = res.ft[c];
+    slot[kValid] = 1.0;
+  }
   hot_dirty_ = false;
 }
 

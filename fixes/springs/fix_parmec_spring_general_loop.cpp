@@ -116,10 +116,7 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
       record_failure(res, e.what());
       return flags | kFailed;
     }
-    if (mode == Mode::Commit) {
-      for (int c = 0; c < 3; c++) slot[kForce + c] = F[c];
-      slot[kValid] = 1.0;
-    }
+    // Commit: F reaches the record's kForce from results_[r] with the state (sync_records)
   }
 
   if (apply) {

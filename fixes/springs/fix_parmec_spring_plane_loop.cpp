@@ -42,7 +42,8 @@ using Rot = sp::BodyRotation;
     return flags | kFailed;
   }
   const sp::Vec3 zero3{0, 0, 0};
-  const Rot Rk = ctx.body_rot ? ctx.body_rot[k] : ctx.quat ? Rot::of(ctx.quat[k]) : Rot::identity();
+  Rot own;  // the matrix formed for this spring (no per-atom matrices): read in place otherwise, not copied
+  const Rot &Rk = ctx.body_rot ? ctx.body_rot[k] : (own = ctx.quat ? Rot::of(ctx.quat[k]) : Rot::identity());
   const sp::Vec3 b = d.arm2_zero ? zero3 : Rk.apply(d.arm2);
   const sp::Vec3 normal = Rk.apply(d.nref);
   const sp::Vec3 p = xi + zero3, q = xk + b;

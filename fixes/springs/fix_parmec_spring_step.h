@@ -96,7 +96,7 @@ inline double FixParmecSpring::spring_eqm(const EvalContext &c, const SpringDef 
 }
 
 // The committed law step of spring r of the own loops (evaluate_centres, evaluate_plane) in this frame: its force
-// in the record and in results_[r] (F on part1, -F on part2), part2's torque -(b x F) if arm2 (b) is given, else
+// in results_[r] (F on part1, -F on part2; sync_records copies F into the record), part2's torque -(b x F) if arm2 (b) is given, else
 // split_plan's -0, part1's split_plan's +0; its output row if wanted. Returns kFailed or 0.
 [[gnu::always_inline]] inline int FixParmecSpring::commit_force(const EvalContext &ctx, int r, int k,
                                                                 const springs::SpringFrame &frame, const springs::Vec3 *arm2)
@@ -112,10 +112,7 @@ inline double FixParmecSpring::spring_eqm(const EvalContext &c, const SpringDef 
     record_failure(res, e.what());
     return kFailed;
   }
-  double *slot = item.slot;
-  for (int c = 0; c < 3; c++) slot[spring_fix::kForce + c] = F[c];
-  slot[spring_fix::kValid] = 1.0;
-  res.apply = true;
+  res.apply = true;  // the force reaches the record's kForce with the state (sync_records), not every step
   res.k = k;
   for (int c = 0; c < 3; c++) {
     res.ft[c] = F[c];

@@ -27,6 +27,7 @@ class PairGranOMP : public PairGran {
   void *extract(const char *name, int &dim) override;
 
  private:
+  struct GatherSink;
   threads::PairForceGather gather_;
   std::vector<double> row_weight_;  // expected cost per list row, for the blocks' balance
   LAMMPS_NS::bigint gather_build_ = -1;  // neighbor->ncalls when the gather index was built

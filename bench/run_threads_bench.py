@@ -27,8 +27,13 @@ busiest thread's Ir: the speed-up if every instruction cost the same time and th
 waited for each other except at the end of the step (cache and memory effects not counted). Also
 the same bound without memset/memcpy/memmove: callgrind counts each iteration of their `rep stos` /
 `rep movs` as an instruction (one per byte), while the hardware stores 32-64 bytes a cycle; OpenMP
-zeroes every thread's force copy (1.8 MB per thread per step on the chute) that way. callgrind runs
-2 at a time; ~15 min at a load of 10.
+zeroes every thread's force copy (1.8 MB per thread per step on the chute) that way. Then the
+Amdahl bound: the serial part S is the main thread's Ir in functions no other thread runs (LAMMPS's
+neighbour-distance check, ghost communication, fix freeze, binning ...), the memset every thread
+runs in full (Z, fix omp's clear of its own force copy) does not split either, and the rest of the
+1-thread Ir splits perfectly: bound = T1 / (S + Z + (T1 - S - Z) / N); also without memset. With
+the wall runs, the plugin's loop speed-up is printed next to it. callgrind runs 2 at a time; ~6 min
+at a load of 10.
 
 Outputs in bench/out/threads/ (git-ignored): logs and results.md.
 
@@ -72,27 +77,37 @@ def chute_cmd(model, nsteps, threads, plugin, log):
 REP_STRING = re.compile(r"memset|memcpy|memmove")
 
 
-def rep_string_ir(path):
-    """Ir callgrind attributes to memset/memcpy/memmove in one thread's file (counted per byte)."""
+def function_ir(path):
+    """Ir per function (exclusive, callgrind_annotate) of one thread's callgrind file."""
     out = subprocess.run(["callgrind_annotate", "--threshold=100", path], capture_output=True, text=True).stdout
-    total = 0
+    funcs = {}
     for line in out.splitlines():
         m = re.match(r"^\s*([\d,]+)\s+(?:\([^)]*\)\s+)?(\S.*)$", line)
-        if m and ":" in m.group(2) and REP_STRING.search(m.group(2)):
-            total += int(m.group(1).replace(",", ""))
-    return total
+        if m and ":" in m.group(2) and "PROGRAM TOTALS" not in m.group(2):
+            name = re.sub(r"\s*\[[^\]]*\]$", "", m.group(2))
+            funcs[name] = funcs.get(name, 0) + int(m.group(1).replace(",", ""))
+    return funcs
 
 
 def callgrind_thread_totals(out_prefix):
-    """(Ir, memset/memcpy Ir) of each thread of one callgrind run (--separate-threads=yes: one file per thread)."""
+    """(Ir, memset/memcpy Ir, Ir per function) of each thread of one callgrind run (--separate-threads=yes:
+    one file per thread). callgrind counts memset/memcpy/memmove per byte (`rep stos` / `rep movs`)."""
     totals = []
     for path in sorted(glob.glob(out_prefix + "-*")):
         with open(path, errors="replace") as fh:
             for line in fh:
                 if line.startswith("totals:") or line.startswith("summary:"):
-                    totals.append((int(line.split()[1]), rep_string_ir(path)))
+                    funcs = function_ir(path)
+                    rep = sum(v for k, v in funcs.items() if REP_STRING.search(k))
+                    totals.append((int(line.split()[1]), rep, funcs))
                     break
     return totals
+
+
+def amdahl(t1, serial, fixed, nthreads):
+    """Speed-up bound when `serial` Ir run on the main thread alone, `fixed` Ir on every thread whatever
+    the count (not split), and the rest of the 1-thread run's t1 Ir splits perfectly."""
+    return t1 / (serial + fixed + (t1 - serial - fixed) / nthreads)
 
 
 def callgrind_run(model, nsteps, threads, plugin, tag):
@@ -131,22 +146,41 @@ def callgrind_table(a, plugin):
             f"in between; OMP_WAIT_POLICY=passive)", "",
             f"| code | 1 thread | {a.threads} threads: sum | busiest thread | overhead | bound t1 / busiest | "
             f"same without memset/memcpy |", "|---|---|---|---|---|---|---|"]
-    bounds = {}
+    bounds, amdahl_rows = {}, []
     for code in ("plg", "lmp"):
-        per_step, rep = {}, {}
+        per_step, rep, funcs = {}, {}, {}
         for nt in (1, a.threads):
             short, long_ = res[(code, nt, short_steps)], res[(code, nt, long_steps)]
             # threads are listed in creation order in both runs (main thread first)
             per_step[nt] = [(l[0] - s[0]) / a.cg_span for s, l in zip(short, long_)]
             rep[nt] = [(l[1] - s[1]) / a.cg_span for s, l in zip(short, long_)]
+            funcs[nt] = [{k: (l[2].get(k, 0) - s[2].get(k, 0)) / a.cg_span for k in set(l[2]) | set(s[2])}
+                         for s, l in zip(short, long_)]
+            # a thread the runtime starts but never gives work runs nothing per step: not one of the N
+            busy = [k for k, t in enumerate(per_step[nt]) if t > 0.01 * max(per_step[nt])]
+            per_step[nt], rep[nt], funcs[nt] = ([v[k] for k in busy] for v in (per_step[nt], rep[nt], funcs[nt]))
         t1 = sum(per_step[1])
         tn = per_step[a.threads]
         t1_net = t1 - sum(rep[1])
         tn_net = [t - r for t, r in zip(tn, rep[a.threads])]
         bounds[code] = t1 / max(tn)
         bounds[code + "_net"] = t1_net / max(tn_net)
-        rows.append(f"| {'dembridge' if code == 'plg' else 'built-in'} | {t1 / 1e6:.2f} M | {sum(tn) / 1e6:.2f} M | "
+        name = "dembridge" if code == "plg" else "built-in"
+        rows.append(f"| {name} | {t1 / 1e6:.2f} M | {sum(tn) / 1e6:.2f} M | "
                     f"{max(tn) / 1e6:.2f} M | {100 * (sum(tn) / t1 - 1):+.1f} % | {bounds[code]:.3f} | {bounds[code + '_net']:.3f} |")
+        # Amdahl: the serial part is what the main thread runs in functions no other thread runs
+        # (LAMMPS's neighbour check, ghost communication, fix freeze, binning, ...); memset/memcpy that every
+        # thread runs in full (fix omp clears each thread's force copy) is a part that does not split
+        main, others = funcs[a.threads][0], funcs[a.threads][1:]
+        serial = sum(v for k, v in main.items() if v > 0 and not REP_STRING.search(k) and all(o.get(k, 0) <= 0 for o in others))
+        fixed = min(rep[a.threads])
+        bounds[code + "_amdahl"] = amdahl(t1, serial, fixed, a.threads)
+        bounds[code + "_amdahl_net"] = amdahl(t1_net, serial, 0.0, a.threads)
+        amdahl_rows.append(f"| {name} | {serial / 1e6:.2f} M | {fixed / 1e6:.2f} M | {bounds[code + '_amdahl']:.3f} | "
+                           f"{bounds[code + '_amdahl_net']:.3f} |")
+    rows += ["", f"Amdahl bound: the 1-thread run's Ir with the serial part S (main thread only) and the per-thread memset Z "
+             f"not split, the rest split perfectly over {a.threads} threads; without memset: Z and memset left out.", "",
+             "| code | serial S | memset per thread Z | Amdahl bound | without memset |", "|---|---|---|---|---|"] + amdahl_rows
     return rows, bounds
 
 
@@ -173,7 +207,7 @@ def parse(log):
 
 
 def wall_table(a, plugin, env):
-    """Interleaved wall-time rounds; returns (table lines, ok)."""
+    """Interleaved wall-time rounds; returns (table lines, ok, loop speed-up per code)."""
     configs = {"plg_t1": (plugin, 1), f"plg_t{a.threads}": (plugin, a.threads),
                "lmp_t1": (None, 1), f"lmp_t{a.threads}": (None, a.threads)}
     results = {k: [] for k in configs}
@@ -218,7 +252,7 @@ def wall_table(a, plugin, env):
         lines.append(f"SANITY FAILED: the plugin reported {best[f'plg_{tN}']['pair_threads']} pair threads, not {a.threads}")
     if ok:
         lines.append(f"Sanity: plugin thermo identical on 1 and {a.threads} threads in every round; {a.threads} threads reported.")
-    return lines, ok
+    return lines, ok, speed
 
 
 def main():
@@ -245,14 +279,19 @@ def main():
           f"1 vs {a.threads} threads\nuptime before: {load_before}", flush=True)
 
     lines = [f"# threads benchmark, chute {a.model}, 1 vs {a.threads} threads", "", f"uptime before: {load_before}"]
-    ok = True
+    ok, speed = True, {}
     if not a.no_wall:
-        wl, ok = wall_table(a, plugin, env)
+        wl, ok, speed = wall_table(a, plugin, env)
         lines += wl
     if a.callgrind:
         cl, bounds = callgrind_table(a, plugin)
         lines += cl + ["", f"callgrind bound for the plugin {bounds['plg']:.3f} ({bounds['plg_net']:.3f} without memset/memcpy; "
-                            f"target {TARGET}), built-in {bounds['lmp']:.3f} ({bounds['lmp_net']:.3f})"]
+                            f"target {TARGET}), built-in {bounds['lmp']:.3f} ({bounds['lmp_net']:.3f}); Amdahl bound from "
+                            f"LAMMPS's serial part: plugin {bounds['plg_amdahl']:.3f} ({bounds['plg_amdahl_net']:.3f}), built-in "
+                            f"{bounds['lmp_amdahl']:.3f} ({bounds['lmp_amdahl_net']:.3f})"]
+        if not a.no_wall:
+            lines.append(f"Plugin wall speed-up {speed['plg']:.3f} next to its Amdahl bound {bounds['plg_amdahl']:.3f} "
+                         f"({bounds['plg_amdahl_net']:.3f} without memset)")
     lines += ["", f"uptime after:  {uptime()}"]
     text = "\n".join(lines) + "\n"
     with open(os.path.join(OUT, "results.md"), "w") as fh:

@@ -40,6 +40,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
 VENV = os.path.join(REPO, ".venv")
 OUT = os.path.join(HERE, "out", "springs")
+sys.path[:0] = [os.path.join(REPO, "tests", "python"), os.path.join(REPO, "python")]
+import spring_lattice  # noqa: E402  (the lattice writer the spring-fix tests share; it imports dembridge from python/)
 
 SIZES = {"1e4": (14, 16, 16), "1e5": (32, 32, 33)}
 
@@ -55,10 +57,6 @@ PARMEC = {
     "unload_ylim": dict(ns=(255.0, 109.0), ir=(771.0, 940.0)),
 }
 KINDS = list(PARMEC)
-TABLES = ("table K -1 -2e4 -0.01 -1e2 0.01 1e2 1 2e4\n"
-          "table KP -1 2e4 -0.01 1e2 0.01 -1e2 1 -2e4\n"
-          "table D -1 -7 1 7\n"
-          "table U -1 -1e6 1 1e6\n")
 OPTIONS = {
     "follower": "K ratio 0.05",
     "table_dashpot": "K dashpot D",
@@ -71,32 +69,14 @@ CONFIGS = {"1r": (1, 1), "2r": (2, 1), "1r2t": (1, 2)}  # (ranks, OpenMP threads
 
 
 def write_springs(path, kind, nx, ny, nz):
-    """Definitions file: atom id = 1 + i + nx*(j + ny*k); returns the number of springs."""
-    aid = lambda i, j, k: 1 + i + nx * (j + ny * k)  # noqa: E731
-    plane = kind.startswith("plane")
+    """Definitions file: the tests' lattice writer (tests/python/spring_lattice.py), every spring of this kind
+    (atom id = 1 + i + nx*(j + ny*k)); returns the number of springs."""
     opts = OPTIONS[kind]
-    n = 0
-    with open(path, "w") as f:
-        f.write(TABLES)
-        for k in range(nz):
-            for j in range(ny):
-                for i in range(nx):
-                    a = aid(i, j, k)
-                    for (di, dj, dk) in ((1, 0, 0), (0, 1, 0), (0, 0, 1)):
-                        if i + di < nx and j + dj < ny and k + dk < nz:
-                            n += 1
-                            b = aid(i + di, j + dj, k + dk)
-                            if plane:  # the plane through part1's centre, carried by part2, normal along the bond
-                                f.write(f"spring {n} {a} centre {b} {i} {j} {k} {opts} plane {di} {dj} {dk}\n")
-                            else:
-                                f.write(f"spring {n} {a} centre {b} centre {opts}\n")
-                    if k == nz - 1:
-                        n += 1
-                        if plane:  # the plane through the particle's centre (s = 0 at rest, as every other spring)
-                            f.write(f"spring {n} {a} centre -1 {i} {j} {k} {opts} plane 0 0 1\n")
-                        else:
-                            f.write(f"spring {n} {a} centre -1 {i} {j} {k + 1} {opts}\n")
-    return n
+    if kind.startswith("plane"):  # top springs: the plane through the particle's centre (s = 0 at rest)
+        bond, top = opts + " plane", lambda n, a, i, j, k: f"spring {n} {a} centre -1 {i} {j} {k} {opts} plane 0 0 1"
+    else:
+        bond, top = opts, lambda n, a, i, j, k: f"spring {n} {a} centre -1 {i} {j} {k + 1} {opts}"
+    return spring_lattice.springs_file(path, [bond], top, nx, ny, nz)
 
 
 def deck(path, springs_file, nx, ny, nz, steps, plugin, threads, kind):

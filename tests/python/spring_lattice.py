@@ -1,6 +1,7 @@
 """The springs benchmark's lattice (bench/run_springs_bench.py) for the spring-fix tests: nx*ny*nz bpm/sphere atoms
 of mass 1 (the planes rotate with part2), springs between +x/+y/+z neighbours taking the given kinds in turn, top
-atoms tied to space; run with the wheel's lmp (under mpiexec for several ranks, 'package omp N' for threads)."""
+atoms tied to space; run with the wheel's lmp (under mpiexec for several ranks, 'package omp N' for threads).
+The benchmark writes its springs files with springs_file too (one writer for both)."""
 import os
 import subprocess
 

@@ -2,7 +2,7 @@
 """Pair-loop CPU time of the plugin's AVX2 loop against its scalar loop, in one process (issue 12, P1/P2).
 
 Opt-in bench tool, not run by CI. Each chute model runs a few steps with DEMBRIDGE_PAIR_PROBE=STEP,PASSES
-(pair_styles/pair_gran.h): at step STEP the pair style reruns that step's neighbour loop PASSES times with
+(pair_styles/pair_gran_probe.cpp): at step STEP the pair style reruns that step's neighbour loop PASSES times with
 each loop, alternating, from the same history and into scratch forces, and prints the thread CPU time of
 every pass (minimum, median) and the AVX2 / scalar ratios. Both loops give bit-identical results; the
 scalar loop is the reference that changes to the AVX2 loop are measured against, in the same process, so

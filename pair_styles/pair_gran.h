@@ -65,14 +65,18 @@ class PairGran : public LAMMPS_NS::Pair {
   LAMMPS_NS::Fix *fix_rigid_ = nullptr;  // body masses replace particle masses (spec §2)
   std::vector<double> mass_rigid_;        // per owned+ghost atom: its body's mass, 0 if none
   void update_rigid_masses();
-  // Opt-in timing of the neighbour loop (bench/run_pair_probe.py): DEMBRIDGE_PAIR_PROBE=STEP[,PASSES]
-  // reruns STEP's loop PASSES times with each loop (AVX2, scalar) on scratch forces and copies of the
-  // history, and prints the thread CPU times; the run itself is unchanged.
+  // Opt-in timing of the neighbour loop (pair_gran_probe.cpp, bench/run_pair_probe.py): DEMBRIDGE_PAIR_PROBE=
+  // STEP[,PASSES] reruns STEP's loop PASSES times with each loop (AVX2, scalar) on scratch forces and copies
+  // of the history, and prints the thread CPU times; the run itself is unchanged.
   long probe_step_ = -1;
   int probe_passes_ = 200;
   gran::PairLoopData::Scan forced_scan_ = gran::PairLoopData::Scan::Default;
+  void read_probe_setting();  // from the environment, at init_style
   void probe_pair_loop();
-  struct ForceSink;  // adds each contact to f and torque (pair_gran.cpp)
+  // The serial compute's loop over this step's contacts, each added to f and torque (the run's or the
+  // probe's scratch arrays) by its ForceSink (pair_gran.cpp).
+  void serial_contacts(double *f, double *torque);
+  struct ForceSink;
   // Material properties kept in the restart file; a fix property/global of the same name wins.
   std::map<std::string, property::GlobalProperty> restart_properties_;
 

@@ -3,6 +3,7 @@
 #include "rank_error.h"
 #include "definition_file.h"
 #include "state/table_registry.h"
+#include "springs/body_rotation.h"  // (by its folder: this folder has a body_rotation.h too)
 
 #include "style_registry.h"
 
@@ -35,14 +36,12 @@ namespace {
 using state::is_number;     // one number parser for every Parmec fix (fixes/state)
 using state::parse_double;
 
-// Row-major rotation matrix (body -> space) of a LAMMPS quaternion (w, x, y, z).
+// Rotation matrix (body -> space) of a LAMMPS quaternion (w, x, y, z): the spring loops' matrix.
 Mat3 rotation(const double *q)
 {
-  const double w = q[0], x = q[1], y = q[2], z = q[3];
+  const sp::BodyRotation r = sp::BodyRotation::of(q);
   Mat3 m;
-  m << w * w + x * x - y * y - z * z, 2.0 * (x * y - w * z), 2.0 * (x * z + w * y),  //
-      2.0 * (x * y + w * z), w * w - x * x + y * y - z * z, 2.0 * (y * z - w * x),    //
-      2.0 * (x * z - w * y), 2.0 * (y * z + w * x), w * w - x * x - y * y + z * z;
+  m << r.m[0][0], r.m[0][1], r.m[0][2], r.m[1][0], r.m[1][1], r.m[1][2], r.m[2][0], r.m[2][1], r.m[2][2];
   return m;
 }
 

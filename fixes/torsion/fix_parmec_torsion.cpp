@@ -7,6 +7,7 @@
 
 #include "axis_inertia.h"
 #include "torsion_step.h"
+#include "springs/body_rotation.h"  // (by its folder: fixes/rigid has a body_rotation.h too)
 
 #include "atom.h"
 #include "comm.h"
@@ -61,13 +62,11 @@ bool is_keyword(const std::string &s)
 
 using state::is_number;
 
-// Row-major rotation matrix (body -> space) of a LAMMPS quaternion (w, x, y, z).
+// Row-major rotation matrix (body -> space) of a LAMMPS quaternion (w, x, y, z): the spring loops' matrix.
 ts::Mat3 rotation(const double *q)
 {
-  const double w = q[0], x = q[1], y = q[2], z = q[3];
-  return {w * w + x * x - y * y - z * z, 2.0 * (x * y - w * z),         2.0 * (x * z + w * y),
-          2.0 * (x * y + w * z),         w * w - x * x + y * y - z * z, 2.0 * (y * z - w * x),
-          2.0 * (x * z - w * y),         2.0 * (y * z + w * x),         w * w - x * x - y * y + z * z};
+  const sp::BodyRotation r = sp::BodyRotation::of(q);
+  return {r.m[0][0], r.m[0][1], r.m[0][2], r.m[1][0], r.m[1][1], r.m[1][2], r.m[2][0], r.m[2][1], r.m[2][2]};
 }
 
 sp::Vec3 apply_t(const ts::Mat3 &m, const sp::Vec3 &v)

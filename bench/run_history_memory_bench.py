@@ -34,6 +34,19 @@ DATA = os.path.join(VENV, "lib", "python%d.%d" % sys.version_info[:2], "site-pac
                     "data.chute")
 NATOMS = 32000
 LIGGGHTS = "/usr/bin/liggghts"
+CHUTE_RUN = """neighbor        0.1 bin
+neigh_modify    every 1 delay 0
+timestep        0.0001
+group           bottom type 2
+group           active subtract all bottom
+neigh_modify    exclude group bottom bottom
+fix             1 all gravity 1.0 chute 26.0
+fix             2 bottom freeze
+fix             3 active nve/sphere
+thermo_modify   norm no
+run             {steps}
+run             0
+"""  # the chute scenario after the contact model: the same in both programs
 LIG_DECK = """units           lj
 atom_style      granular
 atom_modify     map array
@@ -48,19 +61,7 @@ fix             gt  all property/global gammat peratomtypepair 2 0.0 0.0 0.0 0.0
 fix             cof all property/global coefficientFriction peratomtypepair 2 0.5 0.5 0.5 0.5
 pair_style      gran model hooke/stiffness tangential {tangential} tangential_damping off
 pair_coeff      * *
-neighbor        0.1 bin
-neigh_modify    every 1 delay 0
-timestep        0.0001
-group           bottom type 2
-group           active subtract all bottom
-neigh_modify    exclude group bottom bottom
-fix             1 all gravity 1.0 chute 26.0
-fix             2 bottom freeze
-fix             3 active nve/sphere
-thermo_modify   norm no
-run             {steps}
-run             0
-"""
+""" + CHUTE_RUN
 
 DECK = """units           lj
 atom_style      sphere
@@ -71,19 +72,7 @@ read_data       {data}
 {load}
 pair_style      {style} 200000.0 NULL 50.0 NULL 0.5 0
 pair_coeff      * *
-neighbor        0.1 bin
-neigh_modify    every 1 delay 0
-timestep        0.0001
-group           bottom type 2
-group           active subtract all bottom
-neigh_modify    exclude group bottom bottom
-fix             1 all gravity 1.0 chute 26.0
-fix             2 bottom freeze
-fix             3 active nve/sphere
-thermo_modify   norm no
-run             {steps}
-run             0
-{report}
+""" + CHUTE_RUN + """{report}
 """
 REPORT = ('print "HISTORY bytes $(f_DEMBRIDGE_CONTACT_HISTORY[1]) contacts $(f_DEMBRIDGE_CONTACT_HISTORY[2]) '
           'slots $(f_DEMBRIDGE_CONTACT_HISTORY[3]) cbytes $(f_DEMBRIDGE_CONTACT_HISTORY[4])"')

@@ -103,6 +103,31 @@ def impact(ball, R, vn, vt=0.0, partner="sphere", wall=None, model="hertz", e=1.
                 Vrel=Vrel, dt=dt, R=R, m=m)
 
 
+def plot_impacts(results, tc_from, title_overlap, title_history, png):
+    """Tests 1 and 2's figure: force against overlap with Hertz's curve (black), and force against time with
+    the contact time res[tc_from]["tc"] dashed."""
+    plt = pyplot()
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    for res in results:
+        on = slice(res["i0"] - 5, res["i1"] + 5)
+        a = np.linspace(0, res["amax"], 200)
+        ax[0].plot(res["delta"][on] * 1e6, res["Fn"][on] / 1e3, ".", ms=2, label=f"{res['material']} (dembridge)")
+        ax[0].plot(a * 1e6, hertz_force(res["Es"], res["Rs"], a) / 1e3, "k-", lw=0.8)
+        ax[1].plot((res["t"][on] - res["t"][res["i0"]]) * 1e6, res["Fn"][on] / 1e3, label=res["material"])
+        ax[1].axvline(res[tc_from]["tc"] * 1e6, color="k", lw=0.6, ls="--")
+    ax[0].set_xlabel("overlap α (µm)")
+    ax[0].set_ylabel("normal force (kN)")
+    ax[0].set_title(title_overlap)
+    ax[0].legend()
+    ax[1].set_xlabel("time since first contact (µs)")
+    ax[1].set_ylabel("normal force (kN)")
+    ax[1].set_title(title_history)
+    ax[1].legend()
+    fig.tight_layout()
+    fig.savefig(out_path(png), dpi=110)
+    plt.close(fig)
+
+
 # ---------------------------------------------------------------------------------------------
 # Test 1: two identical spheres, V_rel = 20 m/s, e = 1
 
@@ -115,26 +140,8 @@ def test1(materials=(GLASS, LIMESTONE)):
         res["curve_err"] = np.max(np.abs(res["Fn"][on] - F_hz) / F_hz)
         res["material"] = mat["name"]
         results.append(res)
-    plt = pyplot()
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
-    for res in results:
-        on = slice(res["i0"] - 5, res["i1"] + 5)
-        a = np.linspace(0, res["amax"], 200)
-        ax[0].plot(res["delta"][on] * 1e6, res["Fn"][on] / 1e3, ".", ms=2, label=f"{res['material']} (dembridge)")
-        ax[0].plot(a * 1e6, hertz_force(res["Es"], res["Rs"], a) / 1e3, "k-", lw=0.8)
-        ax[1].plot((res["t"][on] - res["t"][res["i0"]]) * 1e6, res["Fn"][on] / 1e3, label=res["material"])
-        ax[1].axvline(res["closed"]["tc"] * 1e6, color="k", lw=0.6, ls="--")
-    ax[0].set_xlabel("overlap α (µm)")
-    ax[0].set_ylabel("normal force (kN)")
-    ax[0].set_title("Chung & Ooi test 1: force–overlap vs Hertz (black)")
-    ax[0].legend()
-    ax[1].set_xlabel("time since first contact (µs)")
-    ax[1].set_ylabel("normal force (kN)")
-    ax[1].set_title("force history; dashed: closed-form t_c")
-    ax[1].legend()
-    fig.tight_layout()
-    fig.savefig(out_path("chung_ooi_test1.png"), dpi=110)
-    plt.close(fig)
+    plot_impacts(results, "closed", "Chung & Ooi test 1: force–overlap vs Hertz (black)",
+                 "force history; dashed: closed-form t_c", "chung_ooi_test1.png")
     return results
 
 
@@ -155,26 +162,8 @@ def test2(materials=(AL_ALLOY, MG_ALLOY)):
         res["rigid"] = dict(zip(("amax", "pmax", "tc"), rigid_plane_closed(mat, 0.1, 0.2)))
         res["energy_ratio"] = (0.4 * res["pmax"] * res["amax"]) / (0.5 * res["ms"] * res["Vrel"]**2)
         results.append(res)
-    plt = pyplot()
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
-    for res in results:
-        on = slice(res["i0"] - 5, res["i1"] + 5)
-        a = np.linspace(0, res["amax"], 200)
-        ax[0].plot(res["delta"][on] * 1e6, res["Fn"][on] / 1e3, ".", ms=2, label=f"{res['material']} (dembridge)")
-        ax[0].plot(a * 1e6, hertz_force(res["Es"], res["Rs"], a) / 1e3, "k-", lw=0.8)
-        ax[1].plot((res["t"][on] - res["t"][res["i0"]]) * 1e6, res["Fn"][on] / 1e3, label=res["material"])
-        ax[1].axvline(res["rigid"]["tc"] * 1e6, color="k", lw=0.6, ls="--")
-    ax[0].set_xlabel("overlap α (µm)")
-    ax[0].set_ylabel("normal force (kN)")
-    ax[0].set_title("test 2: sphere on plane (frozen R=1e4 R sphere, E×1000)")
-    ax[0].legend()
-    ax[1].set_xlabel("time since first contact (µs)")
-    ax[1].set_ylabel("normal force (kN)")
-    ax[1].set_title("force history; dashed: rigid-plane t_c")
-    ax[1].legend()
-    fig.tight_layout()
-    fig.savefig(out_path("chung_ooi_test2.png"), dpi=110)
-    plt.close(fig)
+    plot_impacts(results, "rigid", "test 2: sphere on plane (frozen R=1e4 R sphere, E×1000)",
+                 "force history; dashed: rigid-plane t_c", "chung_ooi_test2.png")
     return results
 
 

@@ -43,6 +43,8 @@ class FixWallGran : public state::PerAtomRecordsFix {
   const std::vector<WallContactRecord> &records() const { return contact_rows_; }
   int history_size() const { return records_.record_size() - 1; }
   bool is_mesh_wall() const { return spec_.is_mesh; }
+  // The meshes of a mesh wall (valid after init()); fix check/timestep/gran reads their speeds.
+  const std::vector<FixMeshSurface *> &meshes() const { return meshes_; }
 
  private:
   // The record size follows from the model: the arguments are parsed before the base is built.

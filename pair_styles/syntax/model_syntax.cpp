@@ -152,6 +152,17 @@ ModelDescription parse_numeric(const std::string &style, const std::vector<std::
   return d;
 }
 
+// A 3.x setting that exists but belongs to another model or sub-model: what it needs (nullptr if no setting).
+const char *setting_owner(const std::string &key)
+{
+  if (key == "viscous") return "model hooke";
+  if (key == "absolute_damping") return "model hooke/stiffness";
+  if (key == "ktToKnUser") return "model hooke";
+  if (key == "tangential_reduce") return "a cohesion model (cohesion sjkr|sjkr2)";
+  if (key == "torsionTorque") return "a rolling friction model (rolling_friction cdt|epsd|epsd2|epsd3)";
+  return nullptr;
+}
+
 // 3.x: gran model M [tangential T] [cohesion C] [rolling_friction R] [surface S] [setting on|off ...]
 ModelDescription parse_liggghts3(const std::string &style, const std::vector<std::string> &args)
 {
@@ -217,6 +228,9 @@ ModelDescription parse_liggghts3(const std::string &style, const std::vector<std
     else if (key == "tangential_reduce" && d.contact.cohesion != CohesionModel::Off) flag = &d.contact.tangential_reduce;
     else if (key == "torsionTorque" && d.contact.rolling != RollingModel::Off) flag = &d.contact.torsion_torque;
     else if (key == "ktToKnUser" && d.contact.normal == NormalModel::Hooke) flag = &d.contact.kt_to_kn_user;
+    else if (const char *owner = setting_owner(key))
+      throw SyntaxError("pair_style gran: model " + m + " has no " + (key == "viscous" ? "viscous model" : "'" + key + "' setting") +
+                        " ('" + key + "' is a setting of " + owner + ")");
     else throw unknown(key);
     if (k + 1 >= args.size()) throw SyntaxError("pair_style gran: '" + key + "' needs on or off");
     const std::string &v = args[k + 1];

@@ -82,5 +82,11 @@ TEST(ModelSyntax, Liggghts3StrictOrder)
   EXPECT_NE(error_of("gran", {"model", "hertz", "rolling_friction", "cdt", "tangential", "history"}).find("wrong keyword order: 'tangential'"),
             std::string::npos);
   EXPECT_NE(error_of("gran", {"model", "hertz", "viscous", "on"}).find("'viscous'"), std::string::npos);
+  // a setting of another model is named as such, not as a keyword-order error
+  EXPECT_NE(error_of("gran", {"model", "hertz", "tangential", "history", "viscous", "on"}).find("model hertz has no viscous model"),
+            std::string::npos);
+  EXPECT_EQ(error_of("gran", {"model", "hertz", "viscous", "on"}).find("keyword order"), std::string::npos);
+  EXPECT_NE(error_of("gran", {"model", "hertz", "absolute_damping", "on"}).find("model hooke/stiffness"), std::string::npos);
+  EXPECT_NE(error_of("gran", {"model", "hooke", "torsionTorque", "on"}).find("rolling friction"), std::string::npos);
   EXPECT_NE(error_of("gran", {"model", "hooke", "tangential_damping", "maybe"}).find("'maybe'"), std::string::npos);
 }

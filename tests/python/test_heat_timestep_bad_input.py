@@ -3,7 +3,7 @@ style's model settings: each a LAMMPS ERROR naming the command, the argument and
 Also: 'error yes' turns check/timestep/gran's warning into an ERROR with LIGGGHTS's text."""
 import pytest
 
-from dembridge import new_lammps
+from test_bad_input import run_deck  # fresh LAMMPS, returns the ERROR text or None
 
 BASE = ["units si", "atom_style sphere", "atom_modify map array", "boundary f f f", "newton off", "comm_modify vel yes",
         "region box block -0.05 0.05 -0.05 0.05 -0.05 0.05", "create_box 1 box",
@@ -17,19 +17,6 @@ PAIR = ["pair_style gran model hertz tangential history", "pair_coeff * *", "tim
 THERMAL = ["fix k all property/global thermalConductivity peratomtype 10.",
            "fix c all property/global thermalCapacity peratomtype 100."]
 GOOD = BASE + PAIR + THERMAL
-
-
-def run_deck(lines):
-    """Runs the lines; returns the ERROR message or None."""
-    lmp = new_lammps()
-    try:
-        for line in lines:
-            lmp.command(line)
-        return None
-    except Exception as e:  # the lammps module raises Exception with the ERROR text
-        return str(e)
-    finally:
-        lmp.close()
 
 
 H = "fix h all heat/gran"

@@ -583,7 +583,7 @@ def read_dump(path) -> Dict[int, Frame]:
             rows = lines[i + 1:i + 1 + natoms]
             if len(rows) < natoms:
                 raise ValueError(f"{path}: truncated frame at step {step}")
-            data = np.array([[float(c) for c in r.split()] for r in rows], dtype=float).reshape(natoms, -1)
+            data = np.array([[float(c) for c in r.split()] for r in rows], dtype=float).reshape(natoms, len(names) if natoms == 0 else -1)
             if data.shape[1] != len(names):
                 raise ValueError(f"{path}: {data.shape[1]} values for {len(names)} columns at step {step}")
             if "id" not in names:

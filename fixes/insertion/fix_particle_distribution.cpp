@@ -1,0 +1,80 @@
+#include "fix_particle_distribution.h"
+
+#include "comm.h"
+#include "error.h"
+#include "modify.h"
+#include "style_registry.h"
+
+#include "fix_particle_template_sphere.h"
+#include "insertion_args.h"
+#include "seed_rule.h"
+
+#include <cstring>
+#include <stdexcept>
+
+using namespace LAMMPS_NS;
+
+namespace dembridge {
+
+FixParticleDistribution::FixParticleDistribution(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
+{
+  const std::string prefix = std::string("Fix ") + style + " (id " + id + "): ";
+  const bool mass_based = std::strstr(style, "numberbased") == nullptr;
+  std::vector<insertion::SphereTemplate> templates;
+  std::vector<double> weights;
+  try {
+    if (narg < 7) throw std::invalid_argument("expects: seed ntemplates template-ID weight ...");
+    seed_ = insertion::parse_seed(arg[3]);
+    const int ntemplates = insertion::integer_arg(arg[4], "ntemplates");
+    if (ntemplates < 1) throw std::invalid_argument("illegal number of templates " + std::string(arg[4]));
+    if (narg != 5 + 2 * ntemplates)
+      throw std::invalid_argument("# of templates (" + std::to_string(ntemplates) +
+                                  ") does not match # of arguments (expected " + std::to_string(ntemplates) +
+                                  " pairs of template-ID weight, got " + std::to_string(narg - 5) + " arguments)");
+    for (int i = 0; i < ntemplates; ++i) {
+      const std::string tid = arg[5 + 2 * i];
+      Fix *f = modify->get_fix_by_id(tid);
+      if (!f) throw std::invalid_argument("invalid ID for fix particletemplate provided: '" + tid + "'");
+      auto *t = FixParticleTemplateSphere::find(lmp, tid);
+      if (!t)
+        throw std::invalid_argument("fix " + tid + " is not of type particletemplate/sphere (it is " + f->style + ")");
+      for (const auto &other : template_ids_)
+        if (other == tid) throw std::invalid_argument("cannot use the same template twice ('" + tid + "')");
+      const double w = insertion::number_arg(arg[6 + 2 * i], "weight of " + tid);
+      if (w < 0) throw std::invalid_argument("invalid weight " + std::string(arg[6 + 2 * i]) + " of " + tid);
+      templates.push_back(t->sphere());
+      weights.push_back(w);
+      template_ids_.push_back(tid);
+      template_seeds_.push_back(t->seed());
+      template_groupbits_.push_back(t->groupbit);
+    }
+    double sum = 0.0;
+    for (double w : weights) sum += w;
+    if (!(sum > 0.0)) throw std::invalid_argument("the weights sum to 0: at least one must be > 0");
+  } catch (const std::invalid_argument &e) {
+    error->all(FLERR, prefix + e.what());
+  }
+  rng_.reset(seed_);  // no rank offset: every rank draws the one-rank stream (rank-invariant insertion)
+  dist_ = std::make_unique<insertion::DiscreteDistribution>(templates, weights, mass_based);
+  if (dist_->normalised() && comm->me == 0)
+    error->warning(FLERR, "particledistribution/discrete: sum of distribution weights != 1, normalizing distribution");
+}
+
+FixParticleDistribution *FixParticleDistribution::find(LAMMPS *lmp, const std::string &id)
+{
+  Fix *f = lmp->modify->get_fix_by_id(id);
+  if (!f || std::strncmp(f->style, "particledistribution/discrete", 29) != 0) return nullptr;
+  return static_cast<FixParticleDistribution *>(f);
+}
+
+static RegisterStyle reg_fix_pdd("fix", "particledistribution/discrete",
+                                 "LIGGGHTS discrete particle distribution (mass-based)",
+                                 create_fix<FixParticleDistribution>);
+static RegisterStyle reg_fix_pdd_mass("fix", "particledistribution/discrete/massbased",
+                                      "LIGGGHTS discrete particle distribution (mass-based)",
+                                      create_fix<FixParticleDistribution>);
+static RegisterStyle reg_fix_pdd_number("fix", "particledistribution/discrete/numberbased",
+                                        "LIGGGHTS discrete particle distribution (number-based)",
+                                        create_fix<FixParticleDistribution>);
+
+}  // namespace dembridge

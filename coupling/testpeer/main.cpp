@@ -1,5 +1,8 @@
 // mbdyn_testpeer: plays MBDyn's `external structural` side so Python/LAMMPS tests can run a
 // coupling without MBDyn. Exit status as MBDyn's: 0 completed, 1 error, 2 interrupted.
+#include <cerrno>
+#include <climits>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -33,6 +36,8 @@ const char* kUsage =
     "  --hinge k,c,cx,cy,cz     revolute hinge at the node: no translation, a torsion spring k and\n"
     "                           damper c about the spin axis, centre of mass at c (node frame) under\n"
     "                           --gravity; --inertia is then the moment of inertia about the hinge\n"
+    "  --method cn|ms [--rho R]  MBDyn's `method`: crank nicolson (default) or `ms, R` (R default 0.6;\n"
+    "                           not with --hinge)\n"
     "  --max-iterations N (20)  --derivatives-max-iterations N (10)\n"
     "  --tolerance T (1e-9)  --derivatives-tolerance T (1e-6)  --derivatives-coefficient C (1e-6)\n"
     "  --accept-timeout S  --io-timeout S   (default 30 each; <= 0 waits forever like MBDyn)\n"
@@ -41,9 +46,30 @@ const char* kUsage =
     "  --kinematics-log FILE    one line per kinematics message: index, command, then per point\n"
     "                           x(3) R(9, row by row) v(3) w(3), global frame\n";
 
+// Status 2, as a command-line tool's usage error; never an uncaught exception (abort, 134).
 [[noreturn]] void usage_error(const std::string& why) {
   std::cerr << "mbdyn_testpeer: " << why << "\n" << kUsage;
-  std::exit(64);
+  std::exit(2);
+}
+
+// The whole text must be the number: "abc", "3x", "" and out-of-range values are usage errors.
+double parse_double(const std::string& option, const std::string& text) {
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(v))
+    usage_error(option + " expects a finite number, got '" + text + "'");
+  return v;
+}
+
+long parse_integer(const std::string& option, const std::string& text, long lo, long hi) {
+  char* end = nullptr;
+  errno = 0;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || errno == ERANGE || v < lo || v > hi)
+    usage_error(option + " expects an integer from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got '" +
+                text + "'");
+  return v;
 }
 
 V3 parse_v3(const std::string& s) {
@@ -71,10 +97,10 @@ int main(int argc, char** argv) {
       return argv[++i];
     };
     if (a == "--path") s.place.unix_path = value();
-    else if (a == "--port") s.place.tcp_port = std::stoi(value());
+    else if (a == "--port") s.place.tcp_port = static_cast<int>(parse_integer(a, value(), 0, 65535));
     else if (a == "--host") s.place.host = value();
     else if (a == "--create") s.mbdyn_creates_socket = value() != "no";
-    else if (a == "--nodes") s.shape.nodes = static_cast<std::uint32_t>(std::stoul(value()));
+    else if (a == "--nodes") s.shape.nodes = static_cast<std::uint32_t>(parse_integer(a, value(), 1, 1000000));
     else if (a == "--orientation") {
       const std::string o = value();
       if (o == "none") s.shape.orientation = Orientation::None;
@@ -91,10 +117,10 @@ int main(int argc, char** argv) {
       else if (c == "tight") s.coupling = CouplingMode::Tight;
       else if (c == "none") s.coupling = CouplingMode::None;
       else usage_error("unknown coupling " + c);
-    } else if (a == "--steps") s.steps = std::stoi(value());
-    else if (a == "--dt") s.dt = std::stod(value());
-    else if (a == "--mass") s.model.mass = std::stod(value());
-    else if (a == "--inertia") s.model.inertia = std::stod(value());
+    } else if (a == "--steps") s.steps = static_cast<int>(parse_integer(a, value(), 0, INT_MAX));
+    else if (a == "--dt") s.dt = parse_double(a, value());
+    else if (a == "--mass") s.model.mass = parse_double(a, value());
+    else if (a == "--inertia") s.model.inertia = parse_double(a, value());
     else if (a == "--gravity") s.model.gravity = parse_v3(value());
     else if (a == "--x0") x0.push_back(parse_v3(value()));
     else if (a == "--v0") v0.push_back(parse_v3(value()));
@@ -106,7 +132,7 @@ int main(int argc, char** argv) {
       std::istringstream in(value());
       if (!(in >> th >> sep >> thd) || sep != ',') usage_error("--spin0 expects theta,theta_dot");
       spin0.emplace_back(th, thd);
-    } else if (a == "--tilt") tilt = std::stod(value());
+    } else if (a == "--tilt") tilt = parse_double(a, value());
     else if (a == "--spin-axis") s.model.spin_axis = parse_v3(value());
     else if (a == "--hinge") {
       double h[5];
@@ -119,13 +145,19 @@ int main(int argc, char** argv) {
       s.model.torsion_damping = h[1];
       s.model.cm_offset = {h[2], h[3], h[4]};
     }
-    else if (a == "--tolerance") s.tolerance = std::stod(value());
-    else if (a == "--derivatives-tolerance") s.derivatives_tolerance = std::stod(value());
-    else if (a == "--derivatives-coefficient") s.model.derivatives_coefficient = std::stod(value());
-    else if (a == "--max-iterations") s.max_iterations = std::stoi(value());
-    else if (a == "--derivatives-max-iterations") s.derivatives_max_iterations = std::stoi(value());
-    else if (a == "--accept-timeout") s.accept_timeout_s = std::stod(value());
-    else if (a == "--io-timeout") s.io_timeout_s = std::stod(value());
+    else if (a == "--method") {
+      const std::string m = value();
+      if (m == "cn") s.model.multistep = false;
+      else if (m == "ms") s.model.multistep = true;
+      else usage_error("--method expects cn or ms, got '" + m + "'");
+    } else if (a == "--rho") s.model.rho = parse_double(a, value());
+    else if (a == "--tolerance") s.tolerance = parse_double(a, value());
+    else if (a == "--derivatives-tolerance") s.derivatives_tolerance = parse_double(a, value());
+    else if (a == "--derivatives-coefficient") s.model.derivatives_coefficient = parse_double(a, value());
+    else if (a == "--max-iterations") s.max_iterations = static_cast<int>(parse_integer(a, value(), 0, INT_MAX));
+    else if (a == "--derivatives-max-iterations") s.derivatives_max_iterations = static_cast<int>(parse_integer(a, value(), 0, INT_MAX));
+    else if (a == "--accept-timeout") s.accept_timeout_s = parse_double(a, value());
+    else if (a == "--io-timeout") s.io_timeout_s = parse_double(a, value());
     else if (a == "--fault") {
       const std::string f = value();
       if (f == "none") s.fault = Fault::None;
@@ -135,7 +167,7 @@ int main(int argc, char** argv) {
       else if (f == "nan") s.fault = Fault::NanInKinematics;
       else if (f == "die") s.fault = Fault::DieMidRun;
       else usage_error("unknown fault " + f);
-    } else if (a == "--fault-message") s.fault_message = std::stoi(value());
+    } else if (a == "--fault-message") s.fault_message = static_cast<int>(parse_integer(a, value(), 0, INT_MAX));
     else if (a == "--trajectory") trajectory_file = value();
     else if (a == "--kinematics-log") s.kinematics_log = value();
     else if (a == "--help" || a == "-h") {
@@ -144,6 +176,8 @@ int main(int argc, char** argv) {
     } else usage_error("unknown option " + a);
   }
   if (s.place.unix_path.empty() && s.place.tcp_port < 0) usage_error("give --path or --port");
+  if (s.model.multistep && s.model.hinged) usage_error("--method ms does not integrate a --hinge body");
+  if (s.model.rho < 0 || s.model.rho > 1) usage_error("--rho expects a spectral radius from 0 to 1");
   if (s.place.tcp_port >= 0 && s.place.tcp_port != 0 && s.place.tcp_port <= 5000)
     usage_error("MBDyn only accepts ports above 5000 (IPPORT_USERRESERVED)");
 

@@ -94,8 +94,48 @@ void OscillatorModel::derivatives_update(const NodeLoads& loads, double dt) {
   }
 }
 
+namespace {
+// MBDyn's two-step coefficients at a constant step (oscillator_model.h).
+struct Multistep {
+  double a1, a2, b0, b1, b2;
+  Multistep(double rho, double dt) {
+    const double r2 = (1 - rho) * (1 - rho), d = 4 - r2;
+    const double beta = (3 * r2 + 4 * (2 * rho - 1)) / d, delta = 0.5 * r2 / d;
+    a1 = 1 - beta;
+    a2 = beta;
+    b0 = dt * (delta + 0.5);
+    b1 = dt * (0.5 * beta + 0.5 - 2 * delta);
+    b2 = dt * (0.5 * beta + delta);
+  }
+  double state(double y1, double y2, double yp, double yp1, double yp2) const {
+    return a1 * y1 + a2 * y2 + b0 * yp + b1 * yp1 + b2 * yp2;
+  }
+  static double derivative(double dt, double y1, double y2, double yp1, double yp2) {
+    return (-12 * y1 + 12 * y2) / dt + 8 * yp1 + 5 * yp2;
+  }
+};
+}  // namespace
+
 std::vector<BodyState> OscillatorModel::predict(double dt) const {
   std::vector<BodyState> out = state_;
+  if (multistep_step()) {
+    const Multistep ms(p_.rho, dt);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const BodyState &o = state_[i], &oo = older_[i];
+      BodyState& b = out[i];
+      auto pair = [&](double& y, double& yp, double y1, double y2, double yp1, double yp2) {
+        yp = Multistep::derivative(dt, y1, y2, yp1, yp2);
+        y = ms.state(y1, y2, yp, yp1, yp2);
+      };
+      for (int k = 0; k < 3; ++k) {
+        pair(b.x[k], b.v[k], o.x[k], oo.x[k], o.v[k], oo.v[k]);
+        pair(b.q[k], b.qp[k], o.q[k], oo.q[k], o.qp[k], oo.qp[k]);
+      }
+      pair(b.theta, b.theta_dot, o.theta, oo.theta, o.theta_dot, oo.theta_dot);
+      pair(b.q_theta, b.qp_theta, o.q_theta, oo.q_theta, o.qp_theta, oo.qp_theta);
+    }
+    return out;
+  }
   for (BodyState& b : out) {
     for (int k = 0; k < 3; ++k) {
       b.x[k] += dt * b.v[k];
@@ -110,6 +150,28 @@ std::vector<BodyState> OscillatorModel::predict(double dt) const {
 std::vector<BodyState> OscillatorModel::solve(double dt, const NodeLoads& loads) const {
   const double h = dt / 2;
   std::vector<BodyState> out = state_;
+  if (multistep_step()) {
+    // The loads have no Jacobian and there is no internal moment (no hinge): explicit in F.
+    const Multistep ms(p_.rho, dt);
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const BodyState &o = state_[i], &oo = older_[i];
+      BodyState& n = out[i];
+      const V3 f = total_force(i, loads);
+      for (int k = 0; k < 3; ++k) {
+        n.qp[k] = f[k];
+        n.q[k] = ms.state(o.q[k], oo.q[k], f[k], o.qp[k], oo.qp[k]);
+        n.v[k] = n.q[k] / p_.mass;
+        n.x[k] = ms.state(o.x[k], oo.x[k], n.v[k], o.v[k], oo.v[k]);
+        n.a[k] = f[k] / p_.mass;
+      }
+      n.qp_theta = loads.moment_z[i];
+      n.q_theta = ms.state(o.q_theta, oo.q_theta, n.qp_theta, o.qp_theta, oo.qp_theta);
+      n.theta_dot = n.q_theta / p_.inertia;
+      n.theta = ms.state(o.theta, oo.theta, n.theta_dot, o.theta_dot, oo.theta_dot);
+      n.theta_ddot = n.qp_theta / p_.inertia;
+    }
+    return out;
+  }
   for (std::size_t i = 0; i < out.size(); ++i) {
     const BodyState& o = state_[i];
     BodyState& n = out[i];

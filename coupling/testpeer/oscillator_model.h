@@ -14,6 +14,14 @@
 //                        x = x_{-1} + dt/2 (v_{-1} + v)   (the external loads have no Jacobian, so
 //                        one Newton correction solves the step for given loads exactly).
 // The residual whose norm MBDyn tests is (F - qp, q - m v) over every degree of freedom.
+// With `multistep` (MBDyn's `method: ms, rho`, its two-step method at a constant step, not for a
+// hinged body): every pair (y, y') above is predicted with MBDyn's cubic derivative predictor
+//   y'_p = (-12 y_{-1} + 12 y_{-2}) / dt + 8 y'_{-1} + 5 y'_{-2},
+//   y_p  = a1 y_{-1} + a2 y_{-2} + b0 y'_p + b1 y'_{-1} + b2 y'_{-2},
+// and corrected with the same formula for y, with a1 = 1 - beta, a2 = beta, b0 = dt (delta + 1/2),
+// b1 = dt (beta/2 + 1/2 - 2 delta), b2 = dt (beta/2 + delta), beta = (3 (1-rho)^2 + 4 (2 rho - 1)) / d,
+// delta = (1-rho)^2 / (2 d), d = 4 - (1-rho)^2 (MBDyn's coefficients for equal steps). The first
+// step, with no state two steps back, is a crank nicolson step.
 #pragma once
 
 #include <vector>
@@ -46,6 +54,8 @@ struct OscillatorParameters {
   bool hinged = false;
   double torsion_stiffness = 0, torsion_damping = 0;
   V3 cm_offset{0, 0, 0};
+  bool multistep = false;  // MBDyn `method: ms, rho` instead of crank nicolson
+  double rho = 0.6;
 };
 
 // Loads from the peer on the nodes (global force, z moment about the node).
@@ -60,7 +70,10 @@ class OscillatorModel {
 
   std::size_t size() const { return state_.size(); }
   const std::vector<BodyState>& state() const { return state_; }
-  void accept(const std::vector<BodyState>& s) { state_ = s; }
+  void accept(const std::vector<BodyState>& s) {
+    older_ = state_;
+    state_ = s;
+  }
 
   // Norm of MBDyn's residual for state s under loads; without the momentum rows when
   // with_momentum is false (the initial-derivatives solve, where they are c F by construction).
@@ -87,6 +100,8 @@ class OscillatorModel {
   OscillatorParameters p_;
   std::vector<BodyState> state_;
   std::vector<double> theta0_;  // the torsion spring's rest angle: the initial one
+  std::vector<BodyState> older_;  // the state one step before state_ (multistep); empty at first
+  bool multistep_step() const { return p_.multistep && !older_.empty(); }
 };
 
 }  // namespace dembridge::mbdyn::testpeer

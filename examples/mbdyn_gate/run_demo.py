@@ -5,12 +5,18 @@ MBDyn's (gate.mbd). A real `mbdyn` on PATH is used; otherwise the test peer play
 
 Usage: python run_demo.py [--plugin build/dembridgeplugin.so] [--testpeer build/coupling/mbdyn_testpeer]
                           [--np 1] [--steps 12500] [--out examples/mbdyn_gate/out]
+--steps N runs N LAMMPS steps (2e-5 s each; the MBDyn side runs N/10 steps of 2e-4 s): a smaller N
+gives a shorter demo (the tests run 500).
 Outputs in --out: gate.txt (t, opening angle, granular moment about the hinge, particles out),
-gate.png (the plots), particles.*.dump (OVITO), gate_*.vtk (ParaView), log.lammps.
+gate.png (the plots), particles.*.dump (OVITO), gate_*.vtk (ParaView), log.lammps, mbdyn.log.
+With a real MBDyn, --out also gets gate.mbd: this folder's gate.mbd with the socket path made
+absolute (MBDyn changes into its input file's folder and creates a relative socket there) and the
+final time of --steps; MBDyn's outputs are gate.mov, gate.out, ... Nothing is written here.
 """
 import argparse
 import os
 import shutil
+import stat
 import subprocess
 import sys
 
@@ -25,25 +31,45 @@ MASS, INERTIA, K, C, L = 0.5, 1.7e-3, 0.5, 0.01, 0.05
 MBDYN_DT = 2e-4
 
 
-def start_mbdyn(out, steps):
+LAMMPS_DT = 2e-5
+
+
+def mbdyn_input(out, sock, steps):
+    """gate.mbd for this run, in out: the socket at the absolute path sock and the final time of
+    `steps` LAMMPS steps, so MBDyn and LAMMPS end together."""
+    text = open(os.path.join(HERE, "gate.mbd")).read()
+    edits = (('path, "mbdyn.sock"', f'path, "{sock}"'),
+             ("final time: 0.25;", f"final time: {round(steps * LAMMPS_DT / MBDYN_DT)}*{MBDYN_DT!r};"))
+    for old, new in edits:
+        if text.count(old) != 1:
+            sys.exit(f"run_demo: {HERE}/gate.mbd: expected one '{old}' to replace")
+        text = text.replace(old, new)
+    path = os.path.join(out, "gate.mbd")
+    open(path, "w").write(text)
+    return path
+
+
+def start_mbdyn(out, sock, steps):
     mbdyn = shutil.which("mbdyn")
     if mbdyn:
         print(f"run_demo: using MBDyn at {mbdyn}")
-        return subprocess.Popen([mbdyn, "-f", os.path.join(HERE, "gate.mbd"), "-o", os.path.join(out, "gate")],
+        return subprocess.Popen([mbdyn, "-f", mbdyn_input(out, sock, steps), "-o", os.path.join(out, "gate")],
                                 cwd=out, stdout=open(os.path.join(out, "mbdyn.log"), "w"), stderr=subprocess.STDOUT)
-    peer = os.environ.get("DEMBRIDGE_MBDYN_TESTPEER") or os.path.join(ROOT, "build", "coupling", "mbdyn_testpeer")
-    if args.testpeer:
-        peer = args.testpeer
-    mbdyn_steps = steps * 2e-5 / MBDYN_DT
+    peer = args.testpeer or os.environ.get("DEMBRIDGE_MBDYN_TESTPEER") or os.path.join(ROOT, "build", "coupling",
+                                                                                       "mbdyn_testpeer")
     print("run_demo: no mbdyn on PATH; the test peer plays gate.mbd")
-    return subprocess.Popen([peer, "--path", os.path.join(out, "mbdyn.sock"), "--nodes", "1", "--orientation", "matrix",
-                             "--coupling", "loose", "--steps", str(int(round(mbdyn_steps)) + 10), "--dt", repr(MBDYN_DT),
-                             "--mass", repr(MASS), "--inertia", repr(INERTIA), "--gravity", "0,0,-9.81",
-                             "--x0", ",".join(map(repr, HINGE)), "--v0", "0,0,0", "--spin0", "0,0", "--tilt", "0",
-                             "--spin-axis", "0,1,0", "--hinge", f"{K},{C},0,0,{-L}",
-                             "--trajectory", os.path.join(out, "gate_mbdyn.txt"),
-                             "--accept-timeout", "120", "--io-timeout", "300"],
+    # 10 MBDyn steps more than LAMMPS runs: LAMMPS ends first and asks the peer to stop (status 2)
+    return subprocess.Popen(testpeer_command(peer, sock, round(steps * LAMMPS_DT / MBDYN_DT) + 10, out),
                             stdout=open(os.path.join(out, "mbdyn.log"), "w"), stderr=subprocess.STDOUT)
+
+
+def testpeer_command(peer, sock, mbdyn_steps, out):
+    """The test peer playing gate.mbd's model for mbdyn_steps steps, listening on sock."""
+    return [peer, "--path", sock, "--nodes", "1", "--orientation", "matrix", "--coupling", "loose",
+            "--steps", str(mbdyn_steps), "--dt", repr(MBDYN_DT), "--mass", repr(MASS), "--inertia", repr(INERTIA),
+            "--gravity", "0,0,-9.81", "--x0", ",".join(map(repr, HINGE)), "--v0", "0,0,0", "--spin0", "0,0",
+            "--tilt", "0", "--spin-axis", "0,1,0", "--hinge", f"{K},{C},0,0,{-L}",
+            "--trajectory", os.path.join(out, "gate_mbdyn.txt"), "--accept-timeout", "120", "--io-timeout", "300"]
 
 
 def plot(out):
@@ -77,10 +103,12 @@ if __name__ == "__main__":
     out = os.path.abspath(args.out)
     os.makedirs(out, exist_ok=True)
     sock = os.path.join(out, "mbdyn.sock")
-    if os.path.exists(sock):
-        os.unlink(sock)  # MBDyn does not remove a stale socket file (spec §1)
+    if os.path.lexists(sock):
+        if not stat.S_ISSOCK(os.lstat(sock).st_mode):
+            sys.exit(f"run_demo: {sock} exists and is not a socket; remove it or choose another --out")
+        os.unlink(sock)  # a killed run's socket: MBDyn would refuse to start on it
     shutil.copy(os.path.join(HERE, "gate.stl"), os.path.join(out, "gate.stl"))
-    mb = start_mbdyn(out, args.steps)
+    mb = start_mbdyn(out, sock, args.steps)
     cmd = [dembridge.lmp_executable(), "-in", os.path.join(HERE, "in.gate"), "-var", "plugin", os.path.abspath(args.plugin),
            "-var", "sock", sock, "-var", "steps", str(args.steps), "-var", "out", out, "-log",
            os.path.join(out, "log.lammps"), "-nocite"]
@@ -91,8 +119,12 @@ if __name__ == "__main__":
         mb.wait(timeout=60)
     except subprocess.TimeoutExpired:
         mb.kill()
+        mb.wait()
     if lmp.returncode != 0:
         sys.exit(f"run_demo: LAMMPS failed (status {lmp.returncode}); see {out}/log.lammps and {out}/mbdyn.log")
+    # MBDyn: 0 when it reached its final time, 2 when LAMMPS ended first and asked it to stop.
+    if mb.returncode not in (0, 2):
+        sys.exit(f"run_demo: the MBDyn side failed (status {mb.returncode}); see {out}/mbdyn.log")
     rows = plot(out)
     peak = max(rows, key=lambda r: r[1])
     print(f"run_demo: gate opened up to {peak[1]:.1f} deg at t = {peak[0]:.3f} s; {int(rows[-1][3])} particles "

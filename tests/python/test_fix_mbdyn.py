@@ -255,20 +255,26 @@ def test_spring_mass_over_tcp_and_with_create_no(sockdir):
     assert read_traj(traj) == ref
     # create no: LAMMPS listens, the peer connects (retrying) once started
     sock = os.path.join(sockdir, "cn.sock")
-    traj2 = os.path.join(sockdir, "cn.txt")
-    deck = spring_mass_deck(sock, 0.004, 1, 100).replace("node atom 1", "create no node atom 1")
+    assert read_traj(run_create_no(sockdir, sock, 100)) == ref
+
+
+def run_create_no(sockdir, sock, steps):
+    """The split spring-mass at 4 ms with `create no`: LAMMPS listens on sock from the fix command
+    on, then the peer connects. Returns the peer's trajectory file."""
+    traj = os.path.join(sockdir, "cn.txt")
+    deck = spring_mass_deck(sock, 0.004, 1, steps).replace("node atom 1", "create no node atom 1")
     path = os.path.join(sockdir, "in.cn")
     open(path, "w").write(deck)
     lmp = subprocess.Popen([lmp_executable(), "-in", path, "-nocite", "-log", "none", "-echo", "none",
                             "-var", "plugin", plugin_path()], cwd=sockdir, stdout=subprocess.PIPE,
                            stderr=subprocess.STDOUT, text=True, stdin=subprocess.DEVNULL)
     peer = subprocess.run([PEER, "--path", sock, "--create", "no", "--accept-timeout", "30", "--io-timeout", "30",
-                           "--nodes", "1", "--orientation", "none", "--steps", "100", "--dt", "0.004", "--mass", str(M),
-                           "--x0", f"{X0},0,0", "--v0", "0,0,0", "--trajectory", traj2],
+                           "--nodes", "1", "--orientation", "none", "--steps", str(steps), "--dt", "0.004",
+                           "--mass", str(M), "--x0", f"{X0},0,0", "--v0", "0,0,0", "--trajectory", traj],
                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
     out, _ = lmp.communicate(timeout=60)
     assert lmp.returncode == 0 and peer.returncode == 0, out[-2000:] + peer.stdout
-    assert read_traj(traj2) == ref
+    return traj
 
 
 def test_split_runs_and_integrated_coupled_atom_change_nothing(sockdir):

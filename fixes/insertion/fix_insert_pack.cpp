@@ -34,7 +34,8 @@ insertion::Box box_of(Domain *d)
 
 std::string FixInsertPack::prefix() const { return std::string("Fix ") + style + " (id " + id + "): "; }
 
-FixInsertPack::FixInsertPack(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
+FixInsertPack::FixInsertPack(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), rate_(std::string(style) == "insert/rate/region")
 {
   std::vector<std::string> args(arg, arg + narg);
   try {
@@ -51,14 +52,25 @@ FixInsertPack::FixInsertPack(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
     if (!region_->bboxflag)
       throw std::invalid_argument("region '" + p_.region + "' has no bounding box: its volume cannot be computed");
     if (k_.insert_every < 0) throw std::invalid_argument("must define 'insert_every' (once or a number of steps)");
-    if (k_.nparticles > 0 || k_.mass > 0. || k_.n_infinite)
-      throw std::invalid_argument("specifying 'nparticles' or 'mass' not allowed");
-    if (k_.particlerate > 0. || k_.massrate > 0.)
-      throw std::invalid_argument("specifying 'particlerate' or 'massrate' not allowed");
     const int ntargets = (p_.volumefraction > 0.) + (p_.ntotal > 0) + (p_.masstotal > 0.);
-    if (ntargets != 1)
-      throw std::invalid_argument("must define exactly one keyword out of 'volumefraction_region', "
-                                  "'particles_in_region', and 'mass_in_region'");
+    if (rate_) {
+      if (k_.insert_every == 0) throw std::invalid_argument("'insert_every' = once not allowed");
+      if (ntargets) throw std::invalid_argument("unknown keyword or wrong keyword order: "
+                                                "volumefraction_region, particles_in_region and mass_in_region "
+                                                "belong to insert/pack (use nparticles or mass)");
+      if (k_.nparticles <= 0 && k_.mass <= 0. && !k_.n_infinite)
+        throw std::invalid_argument("must define either 'nparticles' or 'mass'");
+      if (k_.particlerate <= 0. && k_.massrate <= 0.)
+        throw std::invalid_argument("must define either 'massrate' or 'particlerate'");
+    } else {
+      if (k_.nparticles > 0 || k_.mass > 0. || k_.n_infinite)
+        throw std::invalid_argument("specifying 'nparticles' or 'mass' not allowed");
+      if (k_.particlerate > 0. || k_.massrate > 0.)
+        throw std::invalid_argument("specifying 'particlerate' or 'massrate' not allowed");
+      if (ntargets != 1)
+        throw std::invalid_argument("must define exactly one keyword out of 'volumefraction_region', "
+                                    "'particles_in_region', and 'mass_in_region'");
+    }
     if (k_.start >= 0 && k_.start < update->ntimestep + 1)
       throw std::invalid_argument("'start' step can not be before current step");
     std::vector<int> seeds = {k_.seed, dist_->seed()};
@@ -127,12 +139,28 @@ void FixInsertPack::setup(int)
   region_->prematch();
   region_rng_.reset(k_.seed + kRegionSeedOffset);
   compute_region_volume();
+  if (rate_) {  // LIGGGHTS's calc_insertion_properties of insert/rate/region
+    const double mass_expect = dist_->distribution().mass_expect();
+    ninsert_ = static_cast<long>(k_.nparticles);
+    if (ninsert_ == 0 && !k_.n_infinite) ninsert_ = static_cast<long>(k_.mass / mass_expect);
+    double nflowrate = k_.particlerate;
+    if (nflowrate == 0.) nflowrate = k_.massrate / mass_expect;
+    ninsert_per_ = nflowrate * (static_cast<double>(k_.insert_every) * update->dt);
+  }
   if (comm->me == 0)
     utils::logmesg(lmp, "INFO: Particle insertion {}: inserting every {} steps\n", id, k_.insert_every);
 }
 
 int FixInsertPack::count_to_insert()
 {
+  if (rate_) {  // FixInsert::calc_ninsert_this, then pre_exchange's limit to the total
+    int n = static_cast<int>(ninsert_per_ + insert_rng_.uniform());
+    if (!k_.n_infinite && ninserted_ + n >= ninsert_) {
+      n = static_cast<int>(std::max(0L, ninsert_ - ninserted_));
+      k_.exact_number = true;  // LIGGGHTS switches to exact counts for good here
+    }
+    return n;
+  }
   const RegionContent c = region_content(lmp, region_);
   const auto &d = dist_->distribution();
   int n = 0;
@@ -153,7 +181,9 @@ int FixInsertPack::count_to_insert()
 
 void FixInsertPack::schedule_next(bool inserted)
 {
-  if (k_.insert_every) next_reneighbor += k_.insert_every;
+  const bool more = !rate_ || k_.n_infinite || ninserted_ < ninsert_;
+  if (k_.insert_every && more) next_reneighbor += k_.insert_every;
+  else if (k_.insert_every) next_reneighbor = 0;
   else next_reneighbor = inserted ? 0 : -1;
 }
 
@@ -164,11 +194,12 @@ void FixInsertPack::pre_exchange()
   region_->prematch();
 
   int n = count_to_insert();
+  const bool exact = k_.exact_number;
   if (domain->box_change) compute_region_volume();  // LIGGGHTS redraws the volume when the box may change
-  if (!k_.exact_number)
+  if (!exact)
     n = static_cast<int>(region_volume_local_ / region_volume_ * static_cast<double>(n) + insert_rng_.uniform());
   const auto &d = dist_->distribution();
-  const std::vector<int> list = d.draw_list(n, k_.exact_number, dist_->rng());
+  const std::vector<int> list = d.draw_list(n, exact, dist_->rng());
   if (list.empty()) {
     schedule_next(false);
     return;
@@ -194,7 +225,7 @@ void FixInsertPack::pre_exchange()
   for (size_t q = 0; q < near.size(); q += 4) grid.add(&near[q], near[q + 3]);
 
   const int nlist = static_cast<int>(list.size());
-  const int maxtry = insertion_ratio_ >= 1.
+  const int maxtry = rate_ || insertion_ratio_ >= 1.
       ? nlist * k_.maxattempt
       : static_cast<int>(static_cast<double>(nlist * k_.maxattempt) / (1. - insertion_ratio_));
   insertion::PackSettings s;
@@ -248,5 +279,7 @@ double FixInsertPack::compute_vector(int i) { return i == 0 ? static_cast<double
 
 static RegisterStyle reg_fix_insert_pack("fix", "insert/pack", "LIGGGHTS insertion into a region (fill target)",
                                          create_fix<FixInsertPack>);
+static RegisterStyle reg_fix_insert_rate_region("fix", "insert/rate/region",
+                                                "LIGGGHTS insertion into a region at a rate", create_fix<FixInsertPack>);
 
 }  // namespace dembridge

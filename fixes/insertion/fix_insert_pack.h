@@ -1,5 +1,6 @@
-// fix insert/pack (doc/fix_insert_pack.md): LIGGGHTS 3.8's insertion into a region up to a volume
-// fraction, a particle count or a mass, bit-identical to a one-rank LIGGGHTS run with the same seeds
+// fix insert/pack and insert/rate/region (doc/fix_insert_pack.md, doc/fix_insert_rate_region.md):
+// LIGGGHTS 3.8's insertion into a region up to a volume fraction, a particle count or a mass, or at a
+// rate up to a total, bit-identical to a one-rank LIGGGHTS run with the same seeds
 // and the same particles on any number of ranks (every rank draws the one-rank streams).
 #pragma once
 
@@ -37,6 +38,7 @@ class FixInsertPack : public LAMMPS_NS::Fix {
   int count_to_insert();
   void schedule_next(bool inserted);
 
+  const bool rate_;  // insert/rate/region
   insertion::InsertKeywords k_;
   insertion::PackKeywords p_;
   FixParticleDistribution *dist_ = nullptr;
@@ -46,6 +48,8 @@ class FixInsertPack : public LAMMPS_NS::Fix {
   bool setup_done_ = false;
   LAMMPS_NS::bigint most_recent_ = -1;
   long ninserted_ = 0;
+  long ninsert_ = 0;          // insert/rate/region: the total to insert
+  double ninsert_per_ = 0.0;  // insert/rate/region: particles per insertion
   double massinserted_ = 0.0;
   double extract_radius_ = 0.0;
 };

@@ -1,4 +1,5 @@
-"""fix particletemplate/sphere + particledistribution/discrete + insert/pack against LIGGGHTS 3.8 live.
+"""fix particletemplate/sphere + particledistribution/discrete + insert/pack, insert/rate/region against
+LIGGGHTS 3.8 live.
 
 Each deck of tests/data/liggghts-insertion (LIGGGHTS syntax) runs through /usr/bin/liggghts (one rank)
 and, with the two lines LAMMPS spells differently, through LAMMPS + the plugin on 1, 2 and 4 ranks.
@@ -92,7 +93,8 @@ def test_insertion_bit_identical_one_rank(name, liggghts_frames, tmp_path):
 @pytest.mark.liggghts
 @pytest.mark.plugin
 @pytest.mark.parametrize("name,nprocs", [("pack_volfrac_two_templates", 2), ("pack_count_every", 2),
-                                         ("pack_mass_three_templates", 4)])
+                                         ("pack_mass_three_templates", 4),
+                                         ("rate_region_two_templates", 2)])
 def test_insertion_rank_invariant(name, nprocs, liggghts_frames, tmp_path):
     """On 2 and 4 ranks the plugin inserts LIGGGHTS's one-rank particles (LIGGGHTS itself does not)."""
     deck = (DATA / ("in." + name)).read_text()

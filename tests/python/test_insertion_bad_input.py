@@ -1,4 +1,4 @@
-"""Bad input to fix particletemplate/sphere, particledistribution/discrete and insert/pack: a LAMMPS
+"""Bad input to fix particletemplate/sphere, particledistribution/discrete, insert/pack and insert/rate/region: a LAMMPS
 ERROR naming the command and the argument (LIGGGHTS 3.8's message where it has one). One fresh LAMMPS
 instance per case, in-process."""
 import pytest
@@ -18,10 +18,13 @@ GEN = "fix ins all insert/pack seed 32452867 distributiontemplate pdd1 insert_ev
       "vel constant 0 0 -0.5"
 I = GEN + " region ins volumefraction_region 0.3"
 GOOD = BASE + [T1, T2, D, I, "fix nve all nve/sphere", "run 1"]
+RATE = "fix ins all insert/rate/region seed 32452867 distributiontemplate pdd1 nparticles 50 particlerate 1000 " \
+       "insert_every 100 all_in yes region ins"
 
 TPL = "Fix particletemplate/sphere (id pts1)"
 PDD = "Fix particledistribution/discrete (id pdd1)"
 INS = "Fix insert/pack (id ins)"
+RATE_ID = "Fix insert/rate/region (id ins)"
 
 
 def swap(old, new, lines=GOOD):
@@ -108,6 +111,13 @@ CASES = {
         GOOD[7:]), [INS, "dynamic regions are not allowed ('mov')"]),
     "insert_region_outside_box": (swap(I, I.replace("region ins", "region out"), GOOD[:7] + [
         "region out block 1 2 1 2 1 2 units box"] + GOOD[7:]), [INS, "Unable to calculate the volume of region 'out'"]),
+    "rate_once_not_allowed": (swap(I, RATE.replace("insert_every 100", "insert_every once")),
+                              [RATE_ID, "must not define 'particlerate' or 'massrate' for 'insert_every' = once"]),
+    "rate_no_total": (swap(I, RATE.replace("nparticles 50 ", "")), [RATE_ID, "must define either 'nparticles' or 'mass'"]),
+    "rate_no_rate": (swap(I, RATE.replace("particlerate 1000 ", "")), [RATE_ID, "must define either 'massrate' or 'particlerate'"]),
+    "rate_with_pack_target": (swap(I, RATE + " volumefraction_region 0.3"), [RATE_ID, "belong to insert/pack"]),
+    "rate_nparticles_and_mass": (swap(I, RATE.replace("nparticles 50", "nparticles 50 mass 0.1")),
+                                 [RATE_ID, "must not define both 'nparticles' and 'mass'"]),
     "insert_atom_style_atomic": (swap("atom_style sphere", "atom_style atomic")[:5] + ["mass 1 1.0"] +
                                  swap("fix nve all nve/sphere", "fix nve all nve")[5:],
                                  [INS, "requires atom attributes radius, rmass, omega"]),
@@ -138,3 +148,4 @@ def test_bad_insertion_input_gives_error(name):
 
 def test_good_insertion_deck_runs():
     assert run_lines(GOOD) is None
+    assert run_lines(swap(I, RATE)) is None

@@ -3,7 +3,10 @@ trajectories recorded from the real MBDyn 1.7.3 (tests/data/mbdyn: loose at 4, 2
 tight with gravity at 4 ms) to <= 1e-9; and the improved modes of doc/fix_mbdyn.md ('predictor
 correct' in loose, the start-up remedy in tight) measured against MBDyn alone (alone_dt*.mov)
 with their order of convergence. Also: fix mbdyn driven by the recorded kinematics of the
-spring-mass runs returns the recorded loads and command bytes."""
+spring-mass runs and of press_bed returns the recorded loads and command bytes (a regression of our
+own output: the fix computed those loads in the recorded sessions), and, independently, the
+spring-mass's load law at each pose MBDyn sent, and for press_bed LAMMPS's own sum of the plate
+forces and the real MBDyn's recorded momentum update."""
 import os
 import shutil
 import tempfile
@@ -12,7 +15,7 @@ import pytest
 
 from dembridge import plugin_path
 from mbdyn_transcripts import FakeMbdyn, read_mov, read_transcript, rel_vec_dev
-from test_fix_mbdyn import PEER, Peer, X0, M, read_traj, run_lammps, spring_mass_deck
+from test_fix_mbdyn import C, K, PEER, Peer, X0, M, read_traj, run_lammps, spring_mass_deck
 
 pytestmark = pytest.mark.skipif(PEER is None or not os.path.exists(plugin_path()),
                                 reason="needs the plugin and the mbdyn_testpeer executable (build both)")
@@ -135,28 +138,95 @@ def test_fix_mbdyn_driven_by_recorded_kinematics_returns_recorded_loads(sockdir,
             worst = max(worst, dev)
             assert dev <= 1e-12, (seq, a, b)
     print(f"{transcript}: {len(answers)} answers of fix mbdyn, worst relative deviation from the recorded loads {worst:.2e}")
+    # The recorded loads were this fix's own (regression above); independently, each answer is the
+    # split spring-mass's load law at the pose MBDyn sent just before: F = -K x - C v.
+    sent = {seq: [float(v) for v in vals] for seq, d, cmd, vals in rows if d == "mbdyn->peer" and cmd in (2, 6)}
+    worst_law = 0.0
+    for seq, c, a in answers[1:]:
+        if c in (2, 6):
+            kin = sent[max(s for s in sent if s < seq)]
+            law = [-K * kin[i] - C * kin[3 + i] for i in range(3)]
+            worst_law = max(worst_law, max(abs(x - y) for x, y in zip(a, law)) / (K * X0))
+    print(f"{transcript}: worst deviation from the load law -K x - C v {worst_law:.2e} (relative to K x0)")
+    assert worst_law <= 1e-12
 
 
-def test_fix_mbdyn_press_bed_driven_by_recorded_kinematics_returns_recorded_loads(sockdir):
+@pytest.fixture(scope="module")
+def press_bed_run():
     """examples/mbdyn/in.press_bed (533 atoms, 10 sub-steps per MBDyn step, 20000 LAMMPS steps)
-    driven by the kinematics the real MBDyn sent: fix mbdyn answers with the recorded loads of all
-    2002 exchanges and ends the run the same way (5 at MBDyn's step 2001)."""
+    driven by the kinematics the real MBDyn sent (press_bed_transcript_loose.csv.gz). The deck also
+    writes, every LAMMPS step, LAMMPS's own sum of the forces on the plate's atoms (compute reduce),
+    which the fix does not use. Returns the transcript, fix mbdyn's answers and those sums."""
     import subprocess
     from dembridge import lmp_executable
+    d = tempfile.mkdtemp(prefix="mbpb", dir="/tmp")
     rows = read_transcript("press_bed_transcript_loose.csv.gz")
-    sock = os.path.join(sockdir, "mbdyn.sock")
+    sock = os.path.join(d, "mbdyn.sock")
     fake = FakeMbdyn(sock, rows, timeout=300)
-    deck = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples", "mbdyn", "in.press_bed")
+    example = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples", "mbdyn", "in.press_bed")
+    text = open(example).read()
+    assert text.count("\nrun 20000") == 1
+    text = text.replace("\nrun 20000", "\ncompute fplate plate reduce sum fx fy fz\n"
+                        "fix fsum all ave/time 1 1 1 c_fplate[*] file plate_force.txt format \" %.17g\"\nrun 20000")
+    deck = os.path.join(d, "in.press_bed")
+    open(deck, "w").write(text)
     p = subprocess.run([lmp_executable(), "-in", deck, "-var", "plugin", plugin_path(), "-var", "sock", sock,
-                        "-log", "none", "-nocite", "-screen", "none"], cwd=sockdir, timeout=900,
-                       stdin=subprocess.DEVNULL)
+                        "-log", "none", "-nocite", "-screen", "none"], cwd=d, timeout=900, stdin=subprocess.DEVNULL)
     answers = fake.join()
     assert fake.error is None, fake.error
     assert p.returncode == 0
+    sums = {}
+    for line in open(os.path.join(d, "plate_force.txt")):
+        if not line.startswith("#"):
+            v = line.split()
+            sums[int(v[0])] = [float(x) for x in v[1:4]]
+    yield rows, answers, sums
+    shutil.rmtree(d, ignore_errors=True)
+
+
+def test_press_bed_loads_regression_of_our_own_output(press_bed_run):
+    """A regression of our own output, not a check against MBDyn: the loads of the recorded
+    press_bed session were computed by this plugin (at commit 59dcd31) and relayed to the real
+    MBDyn. Driven by the same kinematics, fix mbdyn must answer the same loads and command bytes in
+    all 2002 exchanges and end the run the same way (5 at MBDyn's step 2001)."""
+    rows, answers, _ = press_bed_run
     expected = [(seq, cmd, [float(v) for v in vals]) for seq, d, cmd, vals in rows if d == "peer->mbdyn"]
     assert [(s, c) for s, c, _ in answers] == [(s, c) for s, c, _ in expected]
     fmax = max(max(abs(v) for v in b) for _, _, b in expected if b)
     worst = max(max(abs(x - y) for x, y in zip(a, b)) / fmax for (_, _, a), (_, _, b) in zip(answers, expected) if b)
-    print(f"press_bed: {len(answers)} answers of fix mbdyn, worst deviation from the recorded loads {worst:.2e} "
+    print(f"press_bed: {len(answers)} answers of fix mbdyn, worst deviation from our recorded loads {worst:.2e} "
           f"(relative to the largest load, {fmax:.1f} N)")
     assert worst <= 1e-12
+
+
+def test_press_bed_loads_are_the_contact_forces_on_the_plate(press_bed_run):
+    """Independent checks of the press_bed loads. (1) LAMMPS: each load fix mbdyn answers for MBDyn
+    step k is the mean, over that step's 10 LAMMPS sub-steps, of LAMMPS's own sum of the forces on
+    the plate's atoms (compute reduce, which shares no code with the fix). (2) The real MBDyn: its
+    recorded plate velocities (press_bed.mov) obey its crank nicolson momentum update with these
+    loads and the plate's weight, m (v_k - v_k-1) = T/2 (F_k-1 + F_k) + T m g (k >= 2)."""
+    rows, answers, sums = press_bed_run
+    loads = [a for _, c, a in answers if c in (2, 6)]
+    first = min(sums)  # the coupled run starts after the 3000 settling steps
+    fmax = max(max(abs(v) for v in f) for f in loads)
+    worst_lammps = 0.0
+    for k in range(1, len(loads)):
+        steps = [first + 10 * (k - 1) + j for j in range(1, 11)]
+        if not all(s in sums for s in steps):
+            break
+        mean = [sum(sums[s][c] for s in steps) / 10 for c in range(3)]
+        worst_lammps = max(worst_lammps, max(abs(a - b) for a, b in zip(loads[k], mean)) / fmax)
+        last = k
+    mov = read_mov("press_bed.mov.gz")
+    m, T, g = 0.5, 1e-4, (0.0, 0.0, -9.81)  # press_bed.mbd: body mass, time step, gravity
+    worst_mbdyn = 0.0
+    for k in range(2, min(len(loads), len(mov))):
+        for c in range(3):
+            lhs = m * (mov[k][3 + c] - mov[k - 1][3 + c])
+            rhs = T / 2 * (loads[k - 1][c] + loads[k][c]) + T * m * g[c]
+            worst_mbdyn = max(worst_mbdyn, abs(lhs - rhs) / (T * fmax))
+    print(f"press_bed: loads vs LAMMPS's plate force sums {worst_lammps:.2e} over {last} MBDyn steps; "
+          f"vs the real MBDyn's momentum update {worst_mbdyn:.2e} (relative to the largest load, {fmax:.1f} N)")
+    assert last >= 1999
+    assert worst_lammps <= 1e-12
+    assert worst_mbdyn <= 1e-12

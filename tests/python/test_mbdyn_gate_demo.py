@@ -3,6 +3,7 @@
 granular load, and the plots and dumps are written."""
 import os
 import shutil
+import socket
 import stat
 import subprocess
 import sys
@@ -68,8 +69,9 @@ sys.exit(rc)
 
 def test_gate_demo_runs_with_an_mbdyn_on_path():
     """`./dembridge demo` with an `mbdyn` on PATH (here the stand-in above, which places its
-    socket the way the real one does): the run reaches its end, MBDyn's socket is the one LAMMPS
-    waits on, MBDyn ends normally with LAMMPS (status 0), and nothing is written beside gate.mbd."""
+    socket the way the real one does) and a killed run's socket left in the output folder: the run
+    reaches its end, MBDyn's socket is the one LAMMPS waits on, MBDyn ends normally with LAMMPS
+    (status 0), and nothing is written beside gate.mbd."""
     work = tempfile.mkdtemp(prefix="gatem", dir="/tmp")
     out, bindir, log = os.path.join(work, "out"), os.path.join(work, "bin"), os.path.join(work, "standin.log")
     os.makedirs(bindir)
@@ -78,6 +80,11 @@ def test_gate_demo_runs_with_an_mbdyn_on_path():
     standin = os.path.join(bindir, "mbdyn")
     open(standin, "w").write(STANDIN.format(python=sys.executable, demo_dir=demo_dir, log=log, peer=PEER))
     os.chmod(standin, 0o755)
+    # A killed run's socket at the path: MBDyn (and the stand-in) would refuse to start on it.
+    os.makedirs(out)
+    stale = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    stale.bind(os.path.join(out, "mbdyn.sock"))
+    stale.close()
     env = dict(os.environ, PATH=bindir + ":/usr/bin:/bin")
     steps = 500  # 0.01 s of the demo's 0.25 s: 50 MBDyn steps
     p = subprocess.run([sys.executable, DEMO, "--plugin", plugin_path(), "--steps", str(steps), "--np", "1",

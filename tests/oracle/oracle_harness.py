@@ -18,7 +18,7 @@ Python API (see README.md beside this file)::
 
 Command line::
 
-    python tests/oracle/oracle_harness.py CASE [--np 2] [--rtol 1e-12] [--semantics 2x|38] [--live]
+    python tests/oracle/oracle_harness.py CASE [--np 2] [--rtol 0] [--semantics 2x|38] [--live]
 
 Environment: DEMBRIDGE_ROOT (repo root; default: two levels above this file),
 DEMBRIDGE_PLUGIN (default <root>/build/dembridgeplugin.so), DEMBRIDGE_VENV (default <root>/.venv),
@@ -769,7 +769,7 @@ def compare(frames_ref: Dict[int, Frame], frames_test: Dict[int, Frame], rtol: f
 # --------------------------------------------------------------------------------------------
 
 
-def check_case(case, rtol: float = 1e-12, nprocs: int = 1, live: bool = True,
+def check_case(case, rtol: float = 0.0, nprocs: int = 1, live: bool = True,
                semantics: str = "38", workdir=None, pair_line: Optional[str] = None,
                syntax: str = "2x", plugin=None,
                quantities: Sequence[str] = ("x", "v", "omega", "f", "torque"),
@@ -821,7 +821,7 @@ def main(argv=None) -> int:
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("case", nargs="*", help="case name(s) under tests/data/liggghts or folder paths")
     ap.add_argument("--np", type=int, default=1, dest="nprocs", help="MPI ranks for LAMMPS (venv mpiexec)")
-    ap.add_argument("--rtol", type=float, default=1e-12)
+    ap.add_argument("--rtol", type=float, default=0.0, help="0: bit-identical (default)")
     ap.add_argument("--semantics", choices=("38", "2x"), default="38",
                     help="38: reference = LIGGGHTS 3.8; 2x: reference = spec_check.py GRAN_SEMANTICS=2x")
     ap.add_argument("--live", action="store_true", help="run liggghts now instead of using the stored dump.txt")

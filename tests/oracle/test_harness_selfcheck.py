@@ -340,7 +340,7 @@ def test_run_lammps_missing_plugin(tmp_path):
 
 
 def test_model_reference_reproduces_oracle(oracle_dir, tmp_path):
-    """spec_check.py (3.8 semantics) == stored dump bit for bit; 2.x semantics within 1e-12 for
+    """spec_check.py (3.8 semantics) == stored dump (tolerance 0); 2.x semantics within 1e-12 for
     the gran/hooke cases (only the hooke gamma_n expression differs, by rounding)."""
     for case in (CASE, MULTI):
         ref = oh.read_dump(oracle_dir / case / "dump.txt")

@@ -8,7 +8,8 @@ meshes.
 Compared per frame: the triangles (STL: normal and vertices; VTK: the vertices of every cell) to
 the digits LIGGGHTS prints (%g, 6 significant: 1e-5 relative), and every VTK cell array that both
 files have (both must have the same names) to 1e-8 of the array's largest magnitude (LIGGGHTS
-prints about 11 digits; the forces themselves are bit-identical, tests/oracle/test_mesh_stress_oracle.py).
+prints about 11 digits; the forces themselves, printed with every digit, are bit-identical:
+tests/oracle/test_mesh_stress_oracle.py).
 
 One LIGGGHTS quirk is not reproduced: LIGGGHTS computes normal_stress_average and
 shear_stress_average in final_integrate only, so at the first setup (step 0) it writes zeros. We

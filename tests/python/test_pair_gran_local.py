@@ -305,7 +305,7 @@ def test_two_ranks_each_pair_once(tmp_path, pair, newton):
     """2 ranks. newton off: a pair across the rank boundary is in both ranks' lists; newton on (no
     history styles only): in one. Either way it must appear once, with the same values as in
     serial (≤ 1e-9 relative over 400 steps). The 2-rank run is also unchanged by the compute
-    (bitwise final per-atom state)."""
+    (the final per-atom dump text is identical)."""
     for nprocs, procs in ((1, None), (2, "2 1 1")):
         for with_compute in (False, True):
             tag = f"{nprocs}{'c' if with_compute else ''}"

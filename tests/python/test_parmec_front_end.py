@@ -156,7 +156,7 @@ def test_spring_hung_cube_exact(tmp_path):
 def test_ball_joint_chain_exact(tmp_path, variant, quirks):
     """Ten cubes chained by BALL_JOINTs, the last pinned, under gravity: 2 s (2000 steps), positions,
     angular velocities, joint reactions and the joint points on both bodies, against upstream Parmec and
-    the Q1/Q3-fixed build. Measured: every column bit for bit over the 200 rows, both builds (and over the recorded 10 s, 1001 rows), with joints.cpp's
+    the Q1/Q3-fixed build. Measured: every column equal (tolerance 0) over the 200 rows, both builds (and over the recorded 10 s, 1001 rows), with joints.cpp's
     C++ products summed in its macro order (NNMUL/NTMUL/NVMUL: k = 0, 1, 2 from the left; Eigen's fixed-size
     products sum the third row as a0 b0 + (a1 b1 + a2 b2)) in the joint system, the free end-of-step Ω of its
     right-hand side and the reaction torques. Before: positions 1.6e-15, ω 1.2e-13, reactions 8.9e-12 of their
@@ -167,7 +167,7 @@ def test_ball_joint_chain_exact(tmp_path, variant, quirks):
     rows = oracle(os.path.join(variant, "ball_joint_chain") if variant else "ball_joint_chain")
     err = compare(ns["H"], rows, rows_used=len(ns["H"]["TIME"]))
     assert len(ns["H"]["TIME"]) == 200
-    assert max(err.values()) <= 1e-15, sorted(err.items(), key=lambda kv: -kv[1])[:5]
+    assert max(err.values()) == 0.0, sorted(err.items(), key=lambda kv: -kv[1])[:5]
 
 
 # (oracle case, script, extra ARGV, --parmec-quirks, duration, tolerance): each script runs at the oracle's
@@ -292,7 +292,7 @@ def test_spring_chain_exact(tmp_path, case, mode, quirks, duration, tol):
 def test_unspring_chain(tmp_path):
     """UNSPRING through a script: ten cubes, SUM of SF of springs 16..19 > 4e5 removes them. 36 860 steps at
     Parmec's step; the averaged SF (HISTORY of a list) agrees on every oracle row (thinned: 5 979 rows) to
-    2.4e-13 of its peak, the top cube's PZ to 1.7e-14 (bit for bit up to step 510; from step 511 an ulp of a
+    2.4e-13 of its peak, the top cube's PZ to 1.7e-14 (both equal, ==, up to step 510; from step 511 an ulp of a
     spring point, which a zero-length spring of stiffness 1e7 turns into ~1e-12 of SF); the springs carry no
     force from Parmec's step 36810 on, and SS turns -1 in the same row as Parmec's (step 36809: the row of the
     trigger step shows the state at the end of the step). The default mode is used; --parmec-quirks gives the
@@ -620,7 +620,7 @@ def test_corrected_defaults_agree_with_parmec_to_first_order(tmp_path, name, scr
 def test_spring_chain_default_differs_from_parmec_by_round_off_only(tmp_path):
     """spring_chain (ten cubes along the diagonal, follower springs with dashpot tables, 0.5 s) in the default
     mode against Parmec, at h, h/2, h/3 and h/4. The oracle holds Parmec's run at one step h only; --parmec-quirks
-    reproduces it bit for bit at that h (test_spring_chain_exact), so at h the default run's distance to the quirks
+    reproduces it exactly (==) at that h (test_spring_chain_exact), so at h the default run's distance to the quirks
     run is its distance to the recorded Parmec run (asserted equal here); at the other steps the quirks run stands
     in for the run Parmec would make. The only quirk this model meets is Q3 (Parmec's exponential map uses Ω2·Ω3
     where Ω1·Ω3 belongs), and it has nothing to act on: the chain swings in the plane x = y, every body turns

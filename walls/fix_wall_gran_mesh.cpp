@@ -91,6 +91,7 @@ void FixWallGran::mesh_pass(bool update_history)
           const double frc[3] = {-fpw[0], -fpw[1], -fpw[2]};
           const double cp[3] = {x[i][0] + tc.delta[0], x[i][1] + tc.delta[1], x[i][2] + tc.delta[2]};
           ms->add_wall_force(t, frc, cp);
+          ms->add_wear(t, x[i], atom->v[i], cp, vw, fpw, atom->type[i]);
         }
       }
     }

@@ -16,12 +16,11 @@ namespace dembridge {
 
 namespace {
 
-const char *const vtk_keywords = "stress, stresscomponents, id, index, vel, area, aedges, acorners";
+const char *const vtk_keywords = "stress, stresscomponents, id, index, vel, wear, area, aedges, acorners";
 
 // LIGGGHTS 3.8 keywords for quantities our meshes do not have.
 const char *unsupported_vtk_keyword(const std::string &w)
 {
-  if (w == "wear") return "Finnie wear is not implemented (fix mesh/surface/stress refuses 'wear on')";
   if (w == "temp") return "meshes carry no temperature (no heat transfer)";
   if (w == "liquid") return "meshes carry no liquid content";
   if (w == "owner") return "every rank holds the whole mesh, so a triangle has no owner rank";
@@ -52,7 +51,7 @@ DumpMesh::DumpMesh(LAMMPS *lmp, int narg, char **arg) : Dump(lmp, narg, arg)
   }
   if (out_.vtk) {
     const mesh::VtkFields &q = out_.fields;
-    if (!(q.stress || q.stress_components || q.triangle_id || q.triangle_index || q.triangle_velocity || q.area ||
+    if (!(q.stress || q.stress_components || q.triangle_id || q.triangle_index || q.triangle_velocity || q.area || q.wear ||
           q.active_edges || q.active_corners))
       a.fail("quantities", std::string("no dump quantity selected (expected at least one of ") + vtk_keywords + ")");
   }
@@ -115,6 +114,7 @@ bool DumpMesh::vtk_keyword(MeshArgs &a, const std::string &w)
   else if (w == "index") q.triangle_index = true;
   else if (w == "vel") q.triangle_velocity = true;
   else if (w == "area") q.area = true;
+  else if (w == "wear") q.wear = true;
   else if (w == "aedges") q.active_edges = true;
   else if (w == "acorners") q.active_corners = true;
   else if (w == "output") {

@@ -1,7 +1,9 @@
 // fix mesh/surface, fix mesh/surface/stress (spec liggghts-walls §4, §6, §7.3, §8).
 #include "fix_mesh_surface.h"
 
+#include "finnie_wear.h"
 #include "fix_move_mesh.h"
+#include "fix_property_global.h"
 #include "mesh_args.h"
 #include "mesh_placement.h"
 #include "stl_reader.h"
@@ -15,6 +17,7 @@
 #include "neighbor.h"
 #include "update.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -32,6 +35,7 @@ FixMeshSurface::FixMeshSurface(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, nar
   const std::string cmd = std::string("fix ") + style + " (id " + id + ")";
   MeshArgs a(lmp, cmd, narg, arg, 3);
   stress_ = std::strcmp(style, "mesh/surface/stress") == 0;
+  const bool stress_style = stress_;
   register_dump_styles(lmp);  // dump mesh/stl, mesh/vtk in this LAMMPS instance (style_registry.h)
 
   // fixed order as in LIGGGHTS: file F type T, then optional keywords in any order
@@ -86,19 +90,20 @@ FixMeshSurface::FixMeshSurface(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, nar
       a.expect_keyword("omega", "surface_ang_vel origin ox oy oz axis ax ay az omega w");
       ang_omega = a.number("surface_ang_vel omega");
       have_surface_ang = true;
-    } else if (stress_ && key == "reference_point") {
+    } else if (stress_style && key == "reference_point") {
       ref = a.vec3("reference_point");
-    } else if (stress_ && key == "stress") {
+    } else if (stress_style && key == "stress") {
       stress_ = a.on_off("stress");
-    } else if (stress_ && key == "wear") {
+    } else if (stress_style && key == "wear") {
       const std::string v = a.word("wear");
-      if (v != "off") a.fail("wear", "only 'wear off' is supported (Finnie wear is not implemented), got '" + v + "'");
+      if (v != "off" && v != "finnie") a.fail("wear", "expected 'finnie' or 'off', got '" + v + "'");
+      wear_ = v == "finnie";
     } else if (key == "reference_point" || key == "stress" || key == "wear") {
       a.fail(key, "is a keyword of fix mesh/surface/stress, not of fix " + std::string(style));
     } else {
       a.fail(key, "unknown keyword (expected precision, heal, verbose, scale, move, rotate, curvature, "
                   "curvature_tolerant, surface_vel, surface_ang_vel" +
-                      std::string(stress_ ? ", reference_point, stress, wear" : "") + ")");
+                      std::string(stress_style ? ", reference_point, stress, wear" : "") + ")");
     }
   }
   if (have_surface_vel && have_surface_ang) a.fail("surface_ang_vel", "cannot be combined with surface_vel");
@@ -114,6 +119,11 @@ FixMeshSurface::FixMeshSurface(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, nar
   if (have_surface_vel || have_surface_ang) set_surface_velocity(have_surface_vel, surface_vel, ang_origin, ang_axis, ang_omega);
   conveyor_ = have_surface_vel || have_surface_ang;
   tri_force_.assign(3 * std::size_t(mesh_->size()), 0.0);
+  if (wear_ && !stress_) a.fail("wear finnie", "needs 'stress on' (the wear is computed with the wall forces)");
+  if (wear_) {
+    wear_total_.assign(std::size_t(mesh_->size()), 0.0);
+    wear_step_.assign(std::size_t(mesh_->size()), 0.0);
+  }
 
   restart_global = 1;
   force_reneighbor = 1;
@@ -166,6 +176,30 @@ void FixMeshSurface::init()
   if (conveyor_ && !movers_.empty())
     error->all(FLERR, std::string("fix ") + style + " (id " + id + "): surface_vel/surface_ang_vel cannot be combined with fix move/mesh");
   check_domain();
+  if (wear_) {
+    const std::string caller = std::string("fix ") + style + " (id " + id + ") wear finnie";
+    const property::GlobalProperty *k = FixPropertyGlobal::find(lmp, "k_finnie");
+    if (!k) error->all(FLERR, property::missing_property_message("k_finnie", caller));
+    try {
+      k->require(property::Kind::PerTypePair, atom->ntypes, caller);
+    } catch (const std::exception &e) {
+      error->all(FLERR, e.what());
+    }
+    k_finnie_.assign(std::size_t(atom->ntypes + 1), 0.0);
+    for (int t = 1; t <= atom->ntypes; ++t) k_finnie_[t] = k->per_type_pair(wall_type_, t);
+  }
+}
+
+// LIGGGHTS: k_finnie[wall type][particle type]; the particle must be in the mesh fix's group.
+void FixMeshSurface::add_wear(int tri, const double *x, const double *v, const double *cp, const double *v_wall,
+                              const double *f, int atom_type)
+{
+  if (!wear_ || update->setupflag) return;  // LIGGGHTS counts no wear for the setup forces
+  const mesh::Vec3 c{cp[0] - x[0], cp[1] - x[1], cp[2] - x[2]};
+  const mesh::Vec3 v_rel{v[0] - v_wall[0], v[1] - v_wall[1], v[2] - v_wall[2]};
+  const double fmag = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+  wear_step_[std::size_t(tri)] += mesh::finnie_wear_increment(c, v_rel, mesh_->normal(tri), k_finnie_[std::size_t(atom_type)], fmag,
+                                                              update->dt, mesh_->area(tri));
 }
 
 int FixMeshSurface::mover_rank(const FixMoveMesh *mover) const
@@ -266,7 +300,16 @@ void FixMeshSurface::pre_force(int)
   rebuilt_this_step_ = false;
 }
 
-void FixMeshSurface::final_integrate() { sum_totals(); }
+void FixMeshSurface::final_integrate()
+{
+  sum_totals();
+  if (!wear_) return;
+  // this step's wear of every rank's contacts, then added to the total (LIGGGHTS: wear += wear_step)
+  std::vector<double> step(wear_step_.size(), 0.0);
+  MPI_Allreduce(wear_step_.data(), step.data(), int(step.size()), MPI_DOUBLE, MPI_SUM, world);
+  for (std::size_t t = 0; t < step.size(); ++t) wear_total_[t] += step[t];
+  std::fill(wear_step_.begin(), wear_step_.end(), 0.0);
+}
 
 void FixMeshSurface::sum_totals()
 {

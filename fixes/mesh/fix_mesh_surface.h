@@ -71,6 +71,12 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   void wall_velocity(int tri, const mesh::Vec3 &bary, double *v) const;
   bool stress_on() const { return stress_; }
   void add_wall_force(int tri, const double *f_on_mesh, const double *contact_point);
+  // wear finnie: one contact's wear this step (x, v: the particle; cp: contact point; f: contact force)
+  bool wear_on() const { return wear_; }
+  void add_wear(int tri, const double *x, const double *v, const double *cp, const double *v_wall, const double *f,
+                int atom_type);
+  // Accumulated wear per triangle (same on every rank; empty without wear finnie).
+  const std::vector<double> &wear() const { return wear_total_; }
 
   // ---- API for fix move/mesh and the mesh dumps
   mesh::TriangleMesh &mesh_for_motion() { return *mesh_; }
@@ -87,6 +93,9 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   std::vector<FixMoveMesh *> movers_;  // in fix order, found in init()
   int wall_type_ = 0;
   bool stress_ = false;
+  bool wear_ = false;
+  std::vector<double> wear_total_, wear_step_;  // per triangle: summed over ranks / this rank's, this step
+  std::vector<double> k_finnie_;                // per particle type (1-based), for this mesh's wall type
   int ref_point_ = -1;
   double total_[6] = {0, 0, 0, 0, 0, 0};  // force, torque about the reference point (this rank)
   double total_all_[6] = {0, 0, 0, 0, 0, 0};

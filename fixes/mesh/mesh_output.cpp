@@ -35,7 +35,8 @@ void write_mesh_frame(LAMMPS *lmp, const MeshOutput &out)
   std::vector<mesh::MeshFrame> frames;
   for (const auto &mid : out.mesh_ids) {
     FixMeshSurface *m = FixMeshSurface::find(lmp, mid, out.caller);
-    frames.push_back({&m->mesh(), forces ? m->triangle_forces_all() : std::vector<double>{}, mid.c_str()});
+    frames.push_back({&m->mesh(), forces ? m->triangle_forces_all() : std::vector<double>{},
+                      out.vtk && w.wear ? m->wear() : std::vector<double>{}, mid.c_str()});
   }
   if (lmp->comm->me != 0) return;
   std::string name = out.file;

@@ -59,7 +59,7 @@ def test_bad_input_gives_errors_naming_the_dump_and_the_argument(tmp_path):
         "unknown keyword": (f"dump v all mesh/vtk 10 {f} stress colour", ["dump mesh/vtk (id v)", "'colour'", "neither a keyword"]),
         "unknown mesh id": (f"dump s all mesh/stl 10 {s} nope", ["dump mesh/stl (id s)", "'nope'", "fix mesh/surface"]),
         "not a mesh": (f"dump s all mesh/stl 10 {s} integr", ["dump mesh/stl (id s)", "'integr' is a fix nve/sphere, not a mesh"]),
-        "wear": (f"dump v all mesh/vtk 10 {f} wear plate", ["dump mesh/vtk (id v)", "keyword 'wear'", "not supported"]),
+        "liquid": (f"dump v all mesh/vtk 10 {f} liquid plate", ["dump mesh/vtk (id v)", "keyword 'liquid'", "not supported"]),
         "owner": (f"dump v all mesh/vtk 10 {f} owner", ["keyword 'owner'", "not supported"]),
         "temp": (f"dump v all mesh/vtk 10 {f} stress temp", ["keyword 'temp'", "not supported"]),
         "nothing selected": (f"dump v all mesh/vtk 10 {f} plate", ["dump mesh/vtk (id v)", "no dump quantity selected"]),

@@ -238,7 +238,7 @@ def test_bad_input_gives_errors_naming_command_and_argument(tmp_path):
         "rotate order": (f"fix cad all mesh/surface file {plate} type 1 rotate angle 5 axis 0 0 1", ["'angle'", "expected keyword 'axis'"]),
         "reference_point on plain mesh": (f"fix cad all mesh/surface file {plate} type 1 reference_point 0 0 0",
                                           ["reference_point", "mesh/surface/stress"]),
-        "wear finnie": (f"fix cad all mesh/surface/stress file {plate} type 1 wear finnie", ["wear", "not implemented"]),
+        "wear model": (f"fix cad all mesh/surface/stress file {plate} type 1 wear archard", ["wear", "expected 'finnie' or 'off'", "'archard'"]),
         "heal value": (f"fix cad all mesh/surface file {plate} type 1 heal yes", ["heal", "auto_remove_duplicates"]),
         "missing value": (f"fix cad all mesh/surface file {plate} type 1 move 0 0", ["move", "missing value"]),
     }

@@ -58,7 +58,7 @@ void write_vtk(std::ostream &os, const std::vector<MeshFrame> &meshes, const cha
 
   const bool any_cell = want.mesh_index || want.normal || want.force || want.stress || want.stress_components ||
                         want.triangle_id || want.triangle_index || want.triangle_velocity || want.area ||
-                        want.active_edges || want.active_corners;
+                        want.active_edges || want.active_corners || want.wear;
   if (any_cell) os << "CELL_DATA " << n << '\n';
   if (want.mesh_index) scalars(os, meshes, "mesh", "int", [](std::size_t i, const MeshFrame &, int) { return double(i); });
   if (want.normal) vectors(os, meshes, "NORMALS", "normal", [](const MeshFrame &f, int t) { return f.mesh->normal(t); });
@@ -82,6 +82,10 @@ void write_vtk(std::ostream &os, const std::vector<MeshFrame> &meshes, const cha
     vectors(os, meshes, "VECTORS", "v", [](const MeshFrame &f, int t) {
       if (!f.mesh->has_velocity()) return Vec3{0.0, 0.0, 0.0};
       return scale(add(add(f.mesh->node_velocity(t, 0), f.mesh->node_velocity(t, 1)), f.mesh->node_velocity(t, 2)), 1.0 / 3.0);
+    });
+  if (want.wear)
+    scalars(os, meshes, "wear", "double", [](std::size_t, const MeshFrame &f, int t) {
+      return f.wear.size() == std::size_t(f.mesh->size()) ? f.wear[std::size_t(t)] : 0.0;
     });
   if (want.area) scalars(os, meshes, "area", "double", [](std::size_t, const MeshFrame &f, int t) { return f.mesh->area(t); });
   if (want.active_edges)

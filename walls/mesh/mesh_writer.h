@@ -16,6 +16,7 @@ namespace dembridge::mesh {
 struct MeshFrame {
   const TriangleMesh *mesh;
   std::vector<double> tri_force;  // 3 values per triangle (force on it, summed over ranks), or empty
+  std::vector<double> wear;       // 1 value per triangle (Finnie wear), or empty (written as 0)
   const char *name;
 };
 
@@ -31,6 +32,7 @@ struct VtkFields {
   bool area = false;               // area: "area"
   bool active_edges = false;       // aedges: "active_edges" (number of active edges, 0-3)
   bool active_corners = false;     // acorners: "active_corners"
+  bool wear = false;               // wear: "wear" (fix mesh/surface/stress ... wear finnie; 0 without)
   static VtkFields none() { return {false, false, false, false}; }
 };
 

@@ -1,0 +1,148 @@
+"""wear finnie of fix mesh/surface/stress, written by dump mesh/vtk ... wear: Finnie's formula on one
+contact (a sphere held against a flat plate at a fixed speed, so every step adds the same wear), and
+LIGGGHTS 3.8 run live on tests/data/liggghts-wear (200 particles falling into a funnel)."""
+import math
+import sys
+from pathlib import Path
+
+import pytest
+
+from dembridge import new_lammps
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tests" / "oracle"))
+import oracle_harness as oh  # noqa: E402
+
+from test_bad_input import run_deck  # noqa: E402
+
+PLATE = ROOT / "tests" / "data" / "liggghts-walls" / "mesh" / "plate.stl"  # two triangles, z = 0, area 8e-4 each
+FUNNEL = ROOT / "tests" / "data" / "liggghts-walls" / "hopper200_funnel_settle"  # data.txt, funnel.stl
+CASE = ROOT / "tests" / "data" / "liggghts-wear"
+K, DT, N = 2.5, 1e-6, 50
+
+
+def read_wear(path):
+    """Cell array 'wear' of a legacy VTK file: ours (SCALARS wear double 1 / LOOKUP_TABLE default) or
+    LIGGGHTS's VTK 5.1 field data (wear 1 NCELLS double)."""
+    tok = Path(path).read_text().split()
+    i = tok.index("wear")
+    if tok[i - 1] == "SCALARS":
+        n = int(tok[tok.index("CELL_DATA") + 1])
+        return [float(v) for v in tok[i + 5:i + 5 + n]]
+    n = int(tok[i + 2])
+    return [float(v) for v in tok[i + 4:i + 4 + n]]
+
+
+def plate_lines(v, vtk_style, dump_dir):
+    """The plate deck (LAMMPS syntax; the LIGGGHTS one differs in the lines liggghts_deck rewrites)."""
+    return ["units si", "atom_style sphere", "atom_modify map array", "boundary f f f", "newton off", "comm_modify vel yes",
+            "region box block -0.05 0.05 -0.05 0.05 -0.05 0.05 units box", "create_box 1 box",
+            "create_atoms 1 single 0.01 -0.01 0.0045 units box", "set group all diameter 0.01 density 2500",
+            f"velocity all set {v[0]} {v[1]} {v[2]}",
+            "fix m1 all property/global youngsModulus peratomtype 5.e7",
+            "fix m2 all property/global poissonsRatio peratomtype 0.3",
+            "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.7",
+            "fix m4 all property/global coefficientFriction peratomtypepair 1 0.3",
+            f"fix m6 all property/global k_finnie peratomtypepair 1 {K}",
+            "pair_style gran model hertz tangential history", "pair_coeff * *", f"timestep {DT}",
+            f"fix cad all mesh/surface/stress file {PLATE} type 1 wear finnie",
+            "fix walls all wall/gran model hertz tangential no_history mesh n_meshes 1 meshes cad",
+            f"dump d all custom {N} {dump_dir}/dump.txt id x y z",
+            f"dump w all mesh/{vtk_style} {N} {dump_dir}/wear_*.vtk wear cad", f"run {N}"]
+
+
+def plate_run(tmp_path, v):
+    """Our wear after N steps and |F| of the contact (no integrator: the sphere keeps x and v)."""
+    lmp = new_lammps()
+    for c in plate_lines(v, "vtk", tmp_path):
+        lmp.command(c)
+    f = [lmp.extract_fix("cad", 0, 1, k) for k in range(3)]  # total force on the mesh = -contact force
+    lmp.close()
+    return read_wear(tmp_path / f"wear_{N}.vtk"), math.sqrt(sum(x * x for x in f))
+
+
+def plate_liggghts(tmp_path, v):
+    """LIGGGHTS 3.8's wear on the same deck (atom_style granular, communicate, mesh/gran/VTK)."""
+    lines = ["atom_style granular" if l == "atom_style sphere" else "communicate single vel yes" if l.startswith("comm_modify")
+             else l for l in plate_lines(v, "gran/VTK", tmp_path / "lig")]
+    (tmp_path / "case").mkdir()
+    oh.run_liggghts(tmp_path / "case", tmp_path / "lig", deck_text="\n".join(lines) + "\n")
+    return read_wear(tmp_path / "lig" / f"wear_{N}.vtk")
+
+
+def finnie(v, fmag, area):
+    """2 k |v| |F| f(gamma) dt / A per step; gamma between v and the plate (normal z)."""
+    speed = math.sqrt(sum(x * x for x in v))
+    s, c = abs(v[2]) / speed, math.hypot(v[0], v[1]) / speed
+    f = 0.33333 * c * c if (c < 0.001 or 3 * s > c) else 2 * s * c - 3 * s * s
+    return 2 * K * speed * fmag * f * DT / area
+
+
+@pytest.mark.parametrize("v,branch", [((0.3, 0.0, -1.0), "steep"), ((1.0, 0.2, -0.2), "shallow"), ((0.0, 0.0, -0.5), "head-on")])
+def test_finnie_formula_on_one_contact(tmp_path, v, branch):
+    """Every step adds 2 k |v| |F| f(gamma) dt / A (none for the setup forces, as in LIGGGHTS); head-on
+    (gamma = 90 degrees) Finnie's f is cos^2/3 = 0. LIGGGHTS 3.8 on the same deck, to its 11 printed digits."""
+    wear, fmag = plate_run(tmp_path, v)
+    assert fmag > 0
+    expect = N * finnie(v, fmag, 8e-4)
+    assert abs(wear[0] - expect) <= 1e-12 * expect, (branch, wear[0], expect)
+    assert (expect > 0) == (branch != "head-on")
+    assert wear[1] == 0.0  # the other triangle is not touched
+    lig = plate_liggghts(tmp_path, v)
+    assert abs(lig[0] - wear[0]) <= 5e-11 * abs(wear[0]) and lig[1] == 0.0, (lig, wear)
+
+
+def test_no_wear_when_moving_away(tmp_path):
+    wear, fmag = plate_run(tmp_path, (0.5, 0.0, 0.3))
+    assert fmag > 0 and wear == [0.0, 0.0]
+
+
+def test_wear_deck_against_liggghts(tmp_path):
+    deck = (CASE / "in.liggghts").read_text()
+    ref = tmp_path / "liggghts"
+    oh.run_liggghts(FUNNEL, ref, deck_text=deck)
+    ours = tmp_path / "lammps"
+    lmp_deck = oh.liggghts_to_lammps_deck(deck.replace("mesh/gran/VTK", "mesh/vtk"), syntax="3x")
+    oh.run_lammps(lmp_deck, ours, files=[FUNNEL / "data.txt", FUNNEL / "funnel.stl"])
+    worn = 0
+    for step in (0, 7000, 14000):
+        a, b = read_wear(ref / f"mesh_{step}.vtk"), read_wear(ours / f"mesh_{step}.vtk")
+        assert len(a) == len(b) == 60
+        for t, (x, y) in enumerate(zip(a, b)):
+            # LIGGGHTS prints 11 significant digits: a half unit of the last one is <= 5e-11 relative
+            assert abs(x - y) <= 5e-11 * abs(x) + 1e-12 * abs(y), (step, t, x, y)
+            assert (x == 0.0) == (y == 0.0), (step, t, x, y)
+        worn = sum(1 for x in a if x > 0)
+    assert worn >= 20  # the funnel did wear (34 of 60 triangles by step 14000)
+
+
+BASE = ["units si", "atom_style sphere", "boundary f f f", "newton off", "comm_modify vel yes", "region box block -0.05 0.05 -0.05 0.05 -0.05 0.05",
+        "create_box 1 box", "create_atoms 1 single 0.01 -0.01 0.0045 units box", "set group all diameter 0.01 density 2500",
+        "fix m1 all property/global youngsModulus peratomtype 5.e7", "fix m2 all property/global poissonsRatio peratomtype 0.3",
+        "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.7",
+        "fix m4 all property/global coefficientFriction peratomtypepair 1 0.3",
+        "pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 1e-6"]
+MESH = f"fix cad all mesh/surface/stress file {PLATE} type 1"
+WALL = "fix walls all wall/gran model hertz tangential history mesh n_meshes 1 meshes cad"
+KF = "fix m6 all property/global k_finnie peratomtypepair 1 1.0"
+BAD = {
+    "wear_word": (BASE + [MESH + " wear yes"], ["fix mesh/surface/stress (id cad)", "wear", "expected 'finnie' or 'off'"]),
+    "wear_without_stress": (BASE + [MESH + " stress off wear finnie"], ["(id cad)", "wear finnie", "stress on"]),
+    "wear_on_plain_mesh": (BASE + [f"fix cad all mesh/surface file {PLATE} type 1 wear finnie"], ["wear", "mesh/surface/stress"]),
+    "no_k_finnie": (BASE + [MESH + " wear finnie", WALL, "run 0"], ["k_finnie", "(id cad) wear finnie"]),
+    "k_finnie_per_type": (BASE + ["fix m6 all property/global k_finnie peratomtype 1.0", MESH + " wear finnie", WALL, "run 0"],
+                          ["k_finnie", "peratomtypepair style required", "wear finnie"]),
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD))
+def test_wear_bad_input(name):
+    lines, fragments = BAD[name]
+    msg = run_deck(lines)
+    assert msg is not None and "ERROR" in msg, f"{name}: no ERROR"
+    for f in fragments:
+        assert f in msg, f"{name}: {f!r} not in {msg!r}"
+
+
+def test_wear_good_deck_runs():
+    assert run_deck(BASE + [KF, MESH + " wear finnie", WALL, "run 5"]) is None

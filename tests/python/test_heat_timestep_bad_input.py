@@ -3,6 +3,7 @@ style's model settings: each a LAMMPS ERROR naming the command, the argument and
 Also: 'error yes' turns check/timestep/gran's warning into an ERROR with LIGGGHTS's text."""
 import pytest
 
+from bad_input_check import assert_error
 from test_bad_input import run_deck  # fresh LAMMPS, returns the ERROR text or None
 
 BASE = ["units si", "atom_style sphere", "atom_modify map array", "boundary f f f", "newton off", "comm_modify vel yes",
@@ -67,12 +68,7 @@ CASES = {
 
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_bad_input(name):
-    lines, fragments = CASES[name]
-    msg = run_deck(lines)
-    assert msg is not None, f"{name}: no ERROR"
-    assert "ERROR" in msg, msg
-    for f in fragments:
-        assert f in msg, f"{name}: {f!r} not in {msg!r}"
+    assert_error(name, *CASES[name])
 
 
 def test_good_deck_runs():

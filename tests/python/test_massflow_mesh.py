@@ -11,6 +11,7 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tests" / "oracle"))
 import oracle_harness as oh  # noqa: E402
 
+from bad_input_check import assert_error  # noqa: E402
 from test_bad_input import run_deck  # noqa: E402
 from thermo_log import thermo_rows  # noqa: E402
 
@@ -98,11 +99,7 @@ BAD = {
 
 @pytest.mark.parametrize("name", sorted(BAD))
 def test_massflow_bad_input(name):
-    lines, fragments = BAD[name]
-    msg = run_deck(lines)
-    assert msg is not None and "ERROR" in msg, f"{name}: no ERROR"
-    for f in fragments:
-        assert f in msg, f"{name}: {f!r} not in {msg!r}"
+    assert_error(name, *BAD[name])
 
 
 def test_massflow_good_deck_runs():

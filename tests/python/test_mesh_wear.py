@@ -13,6 +13,7 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tests" / "oracle"))
 import oracle_harness as oh  # noqa: E402
 
+from bad_input_check import assert_error  # noqa: E402
 from test_bad_input import run_deck  # noqa: E402
 
 PLATE = ROOT / "tests" / "data" / "liggghts-walls" / "mesh" / "plate.stl"  # two triangles, z = 0, area 8e-4 each
@@ -137,11 +138,7 @@ BAD = {
 
 @pytest.mark.parametrize("name", sorted(BAD))
 def test_wear_bad_input(name):
-    lines, fragments = BAD[name]
-    msg = run_deck(lines)
-    assert msg is not None and "ERROR" in msg, f"{name}: no ERROR"
-    for f in fragments:
-        assert f in msg, f"{name}: {f!r} not in {msg!r}"
+    assert_error(name, *BAD[name])
 
 
 def test_wear_good_deck_runs():

@@ -3,6 +3,7 @@
 #include "comm.h"
 #include "error.h"
 
+#include <filesystem>
 #include <fstream>
 #include <mpi.h>
 #include <sstream>
@@ -39,6 +40,42 @@ std::vector<std::string> read_definition_words(LAMMPS_NS::LAMMPS *lmp, const std
   std::string w;
   while (is >> w) words.push_back(w);
   return words;
+}
+
+namespace {
+// The files being parsed, outermost first (one chain at a time: fix commands are parsed one after the other)
+std::vector<std::pair<std::string, std::string>> &open_files()
+{
+  static std::vector<std::pair<std::string, std::string>> chain;  // (identity, path as written)
+  return chain;
+}
+
+std::string identity(const std::string &path)
+{
+  std::error_code ec;
+  const std::filesystem::path p = std::filesystem::weakly_canonical(path, ec);
+  return ec ? path : p.string();
+}
+}  // namespace
+
+void parse_definition_file(LAMMPS_NS::LAMMPS *lmp, const std::string &path, const std::string &command,
+                           const std::function<void(const std::vector<std::string> &, const std::string &)> &parse)
+{
+  auto &chain = open_files();
+  const std::string id = identity(path);
+  for (const auto &open : chain)
+    if (open.first == id) {
+      std::string names;
+      for (const auto &o : chain) names += "'" + o.second + "' -> ";
+      lmp->error->all(FLERR, command + ": file '" + path + "' includes itself (" + names + "'" + path +
+                                 "'): a definition file cannot be read again while it is being read");
+    }
+  chain.emplace_back(id, path);
+  struct Pop {
+    std::vector<std::pair<std::string, std::string>> &c;
+    ~Pop() { c.pop_back(); }  // also when an ERROR unwinds the parse
+  } pop{chain};
+  parse(read_definition_words(lmp, path, command), "file " + path);
 }
 
 }  // namespace dembridge

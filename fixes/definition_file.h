@@ -4,6 +4,7 @@
 
 #include "lammps.h"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -11,5 +12,11 @@ namespace dembridge {
 
 // Errors (file cannot be opened) name `command` and the path.
 std::vector<std::string> read_definition_words(LAMMPS_NS::LAMMPS *lmp, const std::string &path, const std::string &command);
+
+// Reads `path` and hands its words to parse(words, "file PATH") while the file is open in the chain of
+// nested `file` keywords: a file that includes itself, directly or through others, is an ERROR naming
+// the chain instead of an endless recursion.
+void parse_definition_file(LAMMPS_NS::LAMMPS *lmp, const std::string &path, const std::string &command,
+                           const std::function<void(const std::vector<std::string> &, const std::string &)> &parse);
 
 }  // namespace dembridge

@@ -93,7 +93,8 @@ void put(const Vec3 &v, double *a)
 
 }  // namespace
 
-FixParmecRigid::FixParmecRigid(LAMMPS *lmp, int narg, char **arg) : PerAtomStateFix(lmp, narg, arg, kRecord)
+FixParmecRigid::FixParmecRigid(LAMMPS *lmp, int narg, char **arg) :
+    PerAtomStateFix(lmp, narg, arg, kRecord), inertia_(lmp, cmd_)
 {
   time_integrate = 1;
   peratom_flag = 1;  // Λ per atom, row-major: f_ID[1] ... f_ID[9]
@@ -407,7 +408,7 @@ void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::strin
       i += 2;
     } else if (kw == "inertia") {
       need(1, "'sphere' or the name of a d2_ property with 6 columns");
-      inertia_name_ = tok[i + 1] == "sphere" ? "" : tok[i + 1];
+      inertia_.set_name(tok[i + 1] == "sphere" ? "" : tok[i + 1]);
       i += 2;
     } else if (kw == "start") {
       need(1, "'parmec' or 'none'");
@@ -436,7 +437,8 @@ void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::strin
     } else if (kw == "file") {
       need(1, "a file name");
       const std::string path = tok[i + 1];
-      parse(read_definition_words(lmp, path, cmd_), "file " + path);
+      parse_definition_file(lmp, path, cmd_,
+                            [this](const std::vector<std::string> &words, const std::string &w) { parse(words, w); });
       i += 2;
     } else {
       error->all(FLERR, at + "unknown keyword '" + kw +
@@ -528,6 +530,7 @@ void FixParmecRigid::init()
                               " is both pinned in space by the joint and prescribed (its motion is given twice)");
     }
   find_inertia();
+  check_inertia();
   // every atom of the group is a body with a record (the group's atoms when the fix was defined)
   check_record_count();
   int missing = 0, any = 0;
@@ -674,16 +677,35 @@ double FixParmecRigid::compute_array(int i, int j)
 void FixParmecRigid::find_inertia()
 {
   // the inertia property is looked up at each use: Atom::sort and exchange reallocate per-atom arrays
-  int flag = 0, cols = 0;
-  J_ = nullptr;
-  if (!inertia_name_.empty()) {
-    const int ij = atom->find_custom(inertia_name_.c_str(), flag, cols);
-    if (ij < 0 || flag != 1 || cols != 6)
-      error->all(FLERR, cmd_ + ": inertia: '" + inertia_name_ +
-                            "' is not a per-atom d2_ property with 6 columns (define it with fix property/atom d2_" +
-                            inertia_name_ + " 6 and set Ixx Iyy Izz Ixy Ixz Iyz)");
-    J_ = atom->darray[ij];
+  J_ = inertia_.rows();
+}
+
+// A body must have a positive definite inertia tensor (J⁻¹ and the rotational update divide by it): an
+// all-zero or singular tensor would give NaN or infinite spins without a word. Sylvester's criterion.
+void FixParmecRigid::check_inertia()
+{
+  tagint bad = MAXTAGINT;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    const Mat3 J = inertia(i);
+    const double m2 = J(0, 0) * J(1, 1) - J(0, 1) * J(1, 0);
+    if (!(J(0, 0) > 0.0 && m2 > 0.0 && J.determinant() > 0.0)) bad = std::min(bad, atom->tag[i]);
   }
+  tagint first = MAXTAGINT;
+  MPI_Allreduce(&bad, &first, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (first == MAXTAGINT) return;
+  double six[6] = {0, 0, 0, 0, 0, 0}, all[6];  // the owner's tensor, for the message on every rank
+  const int i = atom->map(first);
+  if (i >= 0 && i < atom->nlocal) {
+    const Mat3 J = inertia(i);
+    const double v[6] = {J(0, 0), J(1, 1), J(2, 2), J(0, 1), J(0, 2), J(1, 2)};
+    std::copy(v, v + 6, six);
+  }
+  MPI_Allreduce(six, all, 6, MPI_DOUBLE, MPI_SUM, world);
+  error->all(FLERR, fmt::format("{}: atom {}: its inertia tensor (Ixx Iyy Izz Ixy Ixz Iyz = {} {} {} {} {} {}{}) is not "
+                                "positive definite: a rigid body needs three positive principal moments",
+                                cmd_, first, all[0], all[1], all[2], all[3], all[4], all[5],
+                                inertia_.name().empty() ? ", the sphere's 0.4 m r^2" : ", from d2_" + inertia_.name()));
 }
 
 double FixParmecRigid::step_time() const

@@ -12,6 +12,7 @@
 // (atom tag -> definition).
 #pragma once
 
+#include "body_inertia.h"
 #include "per_atom_state_fix.h"
 
 #include "body_rotation.h"
@@ -89,13 +90,14 @@ class FixParmecRigid : public state::PerAtomStateFix {
   void apply_joints(std::vector<rigid::Vec3> &F0, std::vector<rigid::Vec3> &T0, const double *dl, const double *da,
                     double tv);
   rigid::Mat3 inertia(int i) const;
+  void check_inertia();  // ERROR for a body whose inertia tensor is not positive definite
 
   std::map<std::string, springs::TimeSeries> tseries_;
   bool has_gravity_ = false, has_damping_ = false;
   Series gravity_[3], damp_lin_[3], damp_ang_[3];
   std::map<LAMMPS_NS::tagint, Restraint> restraints_;
   std::map<LAMMPS_NS::tagint, Prescription> prescriptions_;
-  std::string inertia_name_;  // d2_ property with 6 columns; empty: sphere inertia
+  state::BodyInertia inertia_;  // 'inertia NAME' (d2_ property with 6 columns), else the sphere's
   bool q1_ = false, q2_ = false, q3_ = false, q20_ = false, qj_ = false;
   bool half_drift_ = true;
   int started_ = 0;  // initial half drift done (restart keeps it)

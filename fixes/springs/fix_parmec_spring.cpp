@@ -53,7 +53,8 @@ FixParmecSpring::FixParmecSpring(LAMMPS *lmp, int narg, char **arg) :
     reader_(lmp, cmd_, state::DefinitionReader::kTable | state::DefinitionReader::kTseries |
                            state::DefinitionReader::kFile | state::DefinitionReader::kHistory |
                            state::DefinitionReader::kStart,
-            "spring", "table, tseries, spring, file, history, start, eqm, inertia, order or loops")
+            "spring", "table, tseries, spring, file, history, start, eqm, inertia, order or loops"),
+    inertia_(lmp, cmd_)
 {
   if (narg < 4)
     error->all(FLERR, cmd_ + ": expected definitions (table, tseries, spring, file, start) after the style name");
@@ -76,7 +77,7 @@ FixParmecSpring::FixParmecSpring(LAMMPS *lmp, int narg, char **arg) :
                   if (tok[i] == "inertia") {  // CRITICAL with the bodies' inertia tensors (Parmec front end)
                     if (i + 1 >= tok.size())
                       error->all(FLERR, cmd_ + ": inertia: expected the name of a d2_NAME 6 per-atom property");
-                    inertia_name_ = tok[i + 1];
+                    inertia_.set_name(tok[i + 1]);
                     i += 2;
                     return true;
                   }

@@ -16,6 +16,7 @@
 // _api.cpp (UNSPRING).
 #pragma once
 
+#include "body_inertia.h"
 #include "definition_reader.h"
 #include "local_incidence.h"
 #include "per_atom_state_fix.h"
@@ -227,11 +228,8 @@ class FixParmecSpring : public state::PerAtomStateFix {
   void evaluate(Mode mode) override;
   void history_values(const double *rec, double *out) const override;
   void critical();
-  // The body inertia of CRITICAL and of the ratio dashpots' EQM: the referential tensor of atom i from
-  // 'inertia NAME' (d2_NAME: Ixx Iyy Izz Ixy Ixz Iyz), else the sphere's 0.4 m r^2
-  std::array<double, 9> critical_inertia(int i, double mass) const;
-  double **inertia_array() const;  // d2_NAME's per-atom rows (ERROR if it is not 6 doubles), nullptr without
-  std::string inertia_name_;
+  // The body inertia of CRITICAL and of the ratio dashpots' EQM ('inertia NAME', else the sphere's)
+  state::BodyInertia inertia_;
   double crit_[2] = {0.0, 0.0};
   std::vector<double> crit_table_;  // 3 per row, see compute_array
   LAMMPS_NS::bigint crit_step_ = -1;

@@ -48,14 +48,7 @@ void FixParmecSpring::critical()
   auto body = [&](int i) {
     sp::BodyMass b;
     b.mass = mass_of(i);
-    const std::array<double, 9> J = critical_inertia(i, b.mass);
-    if (J[1] == 0.0 && J[2] == 0.0 && J[5] == 0.0) {  // principal axes (spheres): 1/J, no cofactor rounding
-      for (int c = 0; c < 3; c++) b.inv_inertia[4 * c] = J[4 * c] > 0.0 ? 1.0 / J[4 * c] : 0.0;
-      return b;
-    }
-    const double det = J[0] * (J[4] * J[8] - J[5] * J[7]) - J[1] * (J[3] * J[8] - J[5] * J[6]) +
-                       J[2] * (J[3] * J[7] - J[4] * J[6]);
-    if (det > 0.0) b.inv_inertia = sp::parmec_inverse(J);  // as Parmec's critical_perspring (its eqm's J⁻¹)
+    b.inv_inertia = inertia_.inverse(i, b.mass);  // as Parmec's critical_perspring (its eqm's J⁻¹)
     return b;
   };
   sync_records();
@@ -116,7 +109,7 @@ void FixParmecSpring::critical()
   double hp = INFINITY;
   for (auto &kv : particles) {
     const int i = owned[kv.first];
-    std::array<double, 9> J = critical_inertia(i, mass_of(i));
+    std::array<double, 9> J = inertia_.tensor(i, mass_of(i));
     if (!(J[0] > 0.0)) J = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // no radius, no inertia property
     const sp::CriticalEstimate ep = kv.second.estimate(mass_of(i), J);
     hp = std::min(hp, ep.step);
@@ -139,27 +132,6 @@ void FixParmecSpring::critical()
   crit_table_.swap(table);
   MPI_Allreduce(&hs, &crit_[0], 1, MPI_DOUBLE, MPI_MIN, world);
   MPI_Allreduce(&hp, &crit_[1], 1, MPI_DOUBLE, MPI_MIN, world);
-}
-
-double **FixParmecSpring::inertia_array() const
-{
-  if (inertia_name_.empty()) return nullptr;
-  int flag = 0, cols = 0;
-  const int ij = atom->find_custom(inertia_name_.c_str(), flag, cols);
-  if (ij < 0 || flag != 1 || cols != 6)
-    error->all(FLERR, cmd_ + ": inertia: '" + inertia_name_ + "' is not a per-atom array of 6 doubles (fix "
-                              "property/atom d2_" + inertia_name_ + " 6 ghost yes)");
-  return atom->darray[ij];
-}
-
-std::array<double, 9> FixParmecSpring::critical_inertia(int i, double mass) const
-{
-  if (double **J = inertia_array()) {
-    const double *r = J[i];
-    return {r[0], r[3], r[4], r[3], r[1], r[5], r[4], r[5], r[2]};
-  }
-  const double J = atom->radius_flag ? 0.4 * mass * atom->radius[i] * atom->radius[i] : 0.0;
-  return {J, 0, 0, 0, J, 0, 0, 0, J};
 }
 
 // EQM with the full 3x3 inverse inertia (zero direction: largest point mass; 'eqm parmec': Q8 arm).

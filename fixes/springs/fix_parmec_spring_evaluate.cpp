@@ -60,7 +60,7 @@ void FixParmecSpring::evaluate(Mode mode)
   ctx.mass = atom->mass;
   ctx.type = atom->type;
   ctx.radius = atom->radius_flag ? atom->radius : nullptr;
-  ctx.inertia = inertia_array();
+  ctx.inertia = inertia_.rows();
   ctx.tag = atom->tag;
   ctx.nall = nlocal + atom->nghost;
   ctx.periodic = domain->xperiodic || domain->yperiodic || domain->zperiodic;

@@ -66,7 +66,7 @@ void DefinitionReader::parse(const Words &tok, const std::string &where, const H
     } else if (kw == "file" && (common_ & kFile)) {
       need(tok, i, 1, "a file name", where);
       const std::string path = tok[i + 1];
-      parse(read_definition_words(lmp, path, cmd_), "file " + path, handler);
+      parse_definition_file(lmp, path, cmd_, [&](const Words &words, const std::string &w) { parse(words, w, handler); });
       i += 2;
     } else if (kw == "history" && (common_ & kHistory)) {
       history_request(tok, i, where);

@@ -44,7 +44,7 @@ constexpr int kHist = 15;            // history columns per spring
 const char *const kAxis[3] = {"roll", "pitch", "yaw"};
 
 const char *const kOptions[] = {"kroll", "kpitch", "kyaw", "droll", "dpitch", "dyaw", "cone", "refpnt"};
-const char *const kKeywords[] = {"table", "torsion", "file", "history", "start", "order"};
+const char *const kKeywords[] = {"table", "torsion", "file", "history", "start", "order", "inertia"};
 
 bool is_option(const std::string &s)
 {
@@ -83,7 +83,8 @@ FixParmecTorsion::FixParmecTorsion(LAMMPS *lmp, int narg, char **arg) :
     PerAtomStateFix(lmp, narg, arg, kSlot),
     reader_(lmp, cmd_, state::DefinitionReader::kTable | state::DefinitionReader::kFile |
                            state::DefinitionReader::kHistory | state::DefinitionReader::kStart,
-            "torsion spring", "table, torsion, file, history, start or order")
+            "torsion spring", "table, torsion, file, history, start, order or inertia"),
+    inertia_(lmp, cmd_)
 {
   if (narg < 4)
     error->all(FLERR, cmd_ + ": expected definitions (table, torsion, file, history, start) after the style name");
@@ -94,6 +95,12 @@ FixParmecTorsion::FixParmecTorsion(LAMMPS *lmp, int narg, char **arg) :
                 [this](const std::vector<std::string> &tok, std::size_t &i, const std::string &where) {
                   if (tok[i] == "order") {
                     parmec_order_ = reader_.choice(tok, i, where, {"lammps", "parmec"}) == 1;
+                    return true;
+                  }
+                  if (tok[i] == "inertia") {  // critical-ratio dampers with the bodies' inertia tensors
+                    reader_.need(tok, i, 1, "the name of a d2_NAME 6 per-atom property", where);
+                    inertia_.set_name(tok[i + 1]);
+                    i += 2;
                     return true;
                   }
                   return parse_torsion(tok, i, where);
@@ -223,9 +230,11 @@ void FixParmecTorsion::init()
   if (!atom->omega_flag || !atom->torque_flag)
     error->all(FLERR, cmd_ + ": needs per-atom angular velocity and torque (atom_style bpm/sphere)");
   for (const TorsionDef &d : defs_)
-    if (d.law.needs_axis_inertia() && (!atom->rmass_flag || !atom->radius_flag))
+    if (d.law.needs_axis_inertia() && (!atom->rmass_flag || (!atom->radius_flag && inertia_.name().empty())))
       error->all(FLERR, cmd_ + ": torsion spring " + std::to_string(d.id) +
-                            ": a critical damping ratio needs per-atom mass and radius (sphere inertia 0.4 m r^2)");
+                            ": a critical damping ratio needs per-atom mass and an inertia ('inertia NAME' or the "
+                            "sphere's 0.4 m r^2 from the radius)");
+  inertia_.rows();  // ERROR now if 'inertia NAME' names no d2_ property of 6 columns
   check_record_count();
   rigid_ = nullptr;
   if (parmec_order_) {
@@ -259,7 +268,6 @@ void FixParmecTorsion::evaluate(Mode mode)
   double **omega = atom->omega;
   double **quat = atom->quat;
   const double *rmass = atom->rmass_flag ? atom->rmass : nullptr;
-  const double *radius = atom->radius_flag ? atom->radius : nullptr;
   const double dt = update->dt;
 
   local_rows(static_cast<int>(records_.total(nlocal)));
@@ -274,11 +282,8 @@ void FixParmecTorsion::evaluate(Mode mode)
     std::copy(rot[i], rot[i] + 9, m.begin());
     return m;
   };
-  auto inv_inertia = [&](int i) -> ts::Mat3 {
-    const double J = (rmass && radius) ? 0.4 * rmass[i] * radius[i] * radius[i] : 0.0;
-    const double inv = J > 0.0 ? 1.0 / J : 0.0;
-    return {inv, 0, 0, 0, inv, 0, 0, 0, inv};
-  };
+  // referential J⁻¹ of a body (spec §7): the 'inertia NAME' tensor, else the sphere's
+  auto inv_inertia = [&](int i) -> ts::Mat3 { return inertia_.inverse(i, rmass ? rmass[i] : 0.0); };
 
   for (int i = 0; i < nlocal; i++) {
     for (int s = 0; s < records_.count(i); s++) {

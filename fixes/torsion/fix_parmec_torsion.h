@@ -11,6 +11,7 @@
 // order, so results do not depend on the decomposition.
 #pragma once
 
+#include "body_inertia.h"
 #include "definition_reader.h"
 #include "per_atom_state_fix.h"
 
@@ -60,6 +61,7 @@ class FixParmecTorsion : public state::PerAtomStateFix {
   std::unordered_set<long> ids_;
   bool parmec_order_ = false;        // 'order parmec': frames from fix parmec/rigid's stored Λ
   LAMMPS_NS::Fix *rigid_ = nullptr;  // fix parmec/rigid: Λ per atom (local and ghost) as array_atom
+  state::BodyInertia inertia_;       // the critical-ratio dampers' body inertia ('inertia NAME', else the sphere's)
 
 
   bool parse_torsion(const std::vector<std::string> &tok, std::size_t &i, const std::string &where);

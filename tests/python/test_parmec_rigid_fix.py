@@ -161,3 +161,58 @@ def test_fix_parmec_rigid_bodies_are_the_atoms_at_definition(tmp_path):
         assert "an atom of the group has no rigid-body state" in str(e.value), str(e.value)
     finally:
         lmp.close()
+
+
+@pytest.mark.parametrize("six,label", [((0, 0, 0, 0, 0, 0), "all zero"), ((1, 1, 1, 2, 0, 0), "indefinite"),
+                                       ((1, 1, -1, 0, 0, 0), "negative moment")])
+def test_fix_parmec_rigid_refuses_an_inertia_tensor_that_is_not_positive_definite(tmp_path, six, label):
+    """An all-zero or indefinite inertia tensor is an ERROR naming the atom and the tensor (it used to run:
+    J⁻¹ of a zero tensor is infinite, an indefinite one spins up without bound)."""
+    from dembridge import new_lammps
+    lmp = new_lammps()
+    try:
+        with pytest.raises(Exception) as e:
+            for c in _bad_deck(tmp_path, "inertia J", ["fix PJ all property/atom d2_J 6 ghost yes"] +
+                               [f"set atom 1 d2_J[{k + 1}] {v}" for k, v in enumerate((1, 1, 1, 0, 0, 0))] +
+                               [f"set atom 2 d2_J[{k + 1}] {v}" for k, v in enumerate(six)]):
+                lmp.command(c)
+        msg = str(e.value)
+        assert "parmec/rigid" in msg and "atom 2: its inertia tensor" in msg and "not positive definite" in msg, msg
+    finally:
+        lmp.close()
+
+
+DEFINITION_FIXES = {
+    "spring": ("fix S all parmec/spring", "table K -1 -1 1 1 spring 1 1 0 0 0 2 0 0 0 K"),
+    "torsion": ("fix T all parmec/torsion", "table K -1 1 1 -1 torsion 1 1 2 0 0 1 1 0 0 kyaw K"),
+    "rigid": ("fix R all parmec/rigid", "gravity 0 0 -1"),
+}
+
+
+@pytest.mark.parametrize("chain", ["direct", "through_another"])
+@pytest.mark.parametrize("fix", sorted(DEFINITION_FIXES))
+def test_definition_file_that_includes_itself_is_an_error(tmp_path, fix, chain):
+    """`file A` where A says `file A` (or A -> B -> A) is an ERROR naming the chain of files, for every fix
+    that reads definition files (it recursed until the stack overflowed: a segfault). Run by lmp in its own
+    process, as a crash would take pytest down."""
+    import subprocess
+    from dembridge import lmp_executable, plugin_path
+    cmd, words = DEFINITION_FIXES[fix]
+    a, b = tmp_path / "a.def", tmp_path / "b.def"
+    if chain == "direct":
+        a.write_text(f"{words}\nfile a.def\n")
+    else:
+        a.write_text(f"{words}\nfile b.def\n")
+        b.write_text("# the way back\nfile a.def\n")
+    deck = tmp_path / "in.deck"
+    deck.write_text("\n".join([f"plugin load {plugin_path()}", "units si", "atom_style bpm/sphere",
+                               "atom_modify map array", "boundary f f f", "region b block -5 5 -5 5 -5 5",
+                               "create_box 1 b", "create_atoms 1 single 0 0 0 units box",
+                               "create_atoms 1 single 2 0 0 units box", "set group all diameter 0.5 mass 1.0",
+                               f"{cmd} file a.def", "run 0"]) + "\n")
+    p = subprocess.run([lmp_executable(), "-in", str(deck), "-screen", "none", "-log", str(tmp_path / "log"),
+                        "-nocite"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    log = (tmp_path / "log").read_text() if (tmp_path / "log").exists() else ""
+    assert p.returncode == 1, (p.returncode, p.stdout[-500:], p.stderr[-500:])  # an ERROR, not a signal
+    want = "'a.def' -> 'a.def'" if chain == "direct" else "'a.def' -> 'b.def' -> 'a.def'"
+    assert "ERROR" in log and "includes itself" in log and want in log, log[-1000:]

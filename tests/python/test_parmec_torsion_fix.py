@@ -782,3 +782,40 @@ def test_unspring_oracle_chain_trigger_step(tmp_path):
     assert dev < 1e-9 and 4 * last_dev < 1e-3 * 4 * growth  # far below one step's growth of the SUM
     assert all(a[k][6] == -1 and a[k][3] == 0.0 for k in (16, 17, 18, 19))
     assert all(a[k][6] == -3 for k in (12, 13, 14, 15, 20, 35))
+
+
+def test_ratio_damper_uses_the_body_inertia_tensor(tmp_path):
+    """A critical-ratio damper sees the body's inertia about its axis (spec §7: the axis inertias come from
+    the bodies' inverse inertia tensors), not the sphere's 0.4 m r^2. A body with inertia (1, 1, 4) spinning
+    about z on a yaw spring k = 50 with dyaw 0.5: every step's damper torque T_d = TRQTOT_Y - TRQSPR_Y over
+    the yaw rate (the angle increment / h) gives c = -0.5 * 2 sqrt(k * 4), i.e. the damping ratio 0.5 to
+    1e-12 (the mean of the diagonal, the sphere radius here, would give 0.5 sqrt(2/4) = 0.354)."""
+    h, n, k = 1e-3, 300, 50.0
+    lmp = new_lammps()
+    try:
+        for c in ["units si", "atom_style bpm/sphere", "boundary f f f", "region box block -5 5 -5 5 -5 5",
+                  "create_box 1 box", "create_atoms 1 single 0 0 0 units box",
+                  "fix PJ all property/atom d2_J 6 ghost yes",
+                  f"set atom 1 diameter {2 * math.sqrt(5.0)!r} mass 1.0",  # sphere inertia 2 = the diagonal's mean
+                  "set atom 1 d2_J[1] 1.0", "set atom 1 d2_J[2] 1.0", "set atom 1 d2_J[3] 4.0",
+                  "set atom 1 omega 0.0 0.0 1.0",
+                  f"fix T all parmec/torsion start parmec inertia J table K -1 {k!r} 1 {-k!r} "
+                  "torsion 1 1 -1 0 0 1 1 0 0 kyaw K dyaw 0.5",
+                  "fix R all parmec/rigid inertia J", f"timestep {h!r}", "thermo 0",
+                  f"dump L all local 1 {tmp_path}/loc.dump " + " ".join(f"f_T[{i}]" for i in range(1, 17)),
+                  "dump_modify L format float %.17g", f"run {n}"]:
+            lmp.command(c)
+    finally:
+        lmp.close()
+    loc = read_dump(tmp_path / "loc.dump")
+    yaw = {m: loc[m][0][COLS.index("YAW")] for m in loc}
+    ratios = []
+    for m in range(2, n + 1):
+        rate = (yaw[m] - yaw[m - 1]) / h
+        r = loc[m][0]
+        damper = r[COLS.index("TRQTOT_Y")] - r[COLS.index("TRQSPR_Y")]
+        if abs(rate) > 0.1:  # the increment's round-off stays below 1e-13 relative
+            ratios.append(-damper / rate / (2.0 * math.sqrt(k * 4.0)))
+    assert len(ratios) > 100
+    print(f"[torsion ratio] {len(ratios)} steps, damping ratio {min(ratios)!r} ... {max(ratios)!r}")
+    assert max(abs(z - 0.5) for z in ratios) <= 1e-12, (min(ratios), max(ratios))

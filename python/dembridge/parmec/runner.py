@@ -141,7 +141,9 @@ class Runner:
         if m.torsions:
             # 'order parmec': the frames co-rotate with fix parmec/rigid's Λ (with Q3 not orthogonal, as Parmec's)
             order = "" if critical_only else " order parmec"
-            self.cmd(f"fix T all parmec/torsion start parmec{order} file {self.write('torsion.def', self._torsions())}")
+            # 'inertia pmJ': the critical-ratio dampers see each body's inertia tensor, as in Parmec
+            self.cmd(f"fix T all parmec/torsion start parmec{order} inertia pmJ "
+                     f"file {self.write('torsion.def', self._torsions())}")
         if m.unsprings:
             self.cmd(f"fix U all parmec/unspring S file {self.write('unspring.def', self._unsprings())}")
         if critical_only:

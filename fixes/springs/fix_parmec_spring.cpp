@@ -339,6 +339,7 @@ void FixParmecSpring::setup(int)
                                   cmd_, d.id, d.tag1, d.tag2, far.distance, cutghost_));
   }
   evaluate(Mode::Setup);
+  warn_beyond_critical();
   if (report_loops_) {  // 'loops' given: which loop takes how many springs in the committed steps
     const bool kinds = !general_loops_ && !parmec_order_;
     long mine[3] = {kinds ? long(centre_r_.size()) : 0, kinds ? long(plane_r_.size()) : 0,

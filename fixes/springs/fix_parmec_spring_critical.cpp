@@ -134,6 +134,30 @@ void FixParmecSpring::critical()
   MPI_Allreduce(&hp, &crit_[1], 1, MPI_DOUBLE, MPI_MIN, world);
 }
 
+// At every run's set-up: a timestep beyond the critical one (a spring table much stiffer than the step was
+// chosen for) makes the explicit integration blow up within a few steps without a word; say so first.
+void FixParmecSpring::warn_beyond_critical()
+{
+  if (defs_.empty()) return;
+  critical();
+  crit_step_ = update->ntimestep;
+  const double h = crit_[1] < DBL_MAX ? crit_[1] : crit_[0];  // per particle (CRITICAL()), else per spring
+  if (comm->me != 0 || !(std::isfinite(h) && h > 0.0) || !(update->dt > h)) return;
+  const bool particle = crit_[1] < DBL_MAX;
+  std::size_t row = particle ? defs_.size() : 0, end = particle ? crit_table_.size() / 3 : defs_.size();
+  for (std::size_t r = row; r < end; r++)
+    if (crit_table_[3 * r] == h) {
+      row = r;
+      break;
+    }
+  const std::string who = particle ? fmt::format("per particle, atom {}", row - defs_.size() + 1)
+                                   : fmt::format("per spring, spring {}", defs_[row].id);
+  error->warning(FLERR, fmt::format("{}: timestep {:.6g} is {:.3g} times the critical step {:.6g} of the springs "
+                                    "(CRITICAL, {}): the explicit integration is unstable beyond it; use a timestep "
+                                    "below {:.6g} (Parmec scripts take 0.1 to 0.5 of it)",
+                                    cmd_, update->dt, update->dt / h, h, who, h));
+}
+
 // EQM with the full 3x3 inverse inertia (zero direction: largest point mass; 'eqm parmec': Q8 arm).
 // The tensor is referential, as in Parmec's eqm() (its arms and J⁻¹ are the reference ones).
 double FixParmecSpring::spring_eqm_general(const EvalContext &c, const SpringDef &d, int i, int k,

@@ -518,6 +518,32 @@ BAD += [
     ("TORSION_SPRING(p, -1, (0, 0, 1), (1, 0, 0), refpnt=(0, 0))", "TORSION_SPRING: argument 'refpnt'"),
     ("OUTPUT(mode=['RB', 'SL'], format='DUMP')", "OUTPUT: argument 'mode' = ['SL'] needs format 'VTK'"),
 ]
+# not-a-number and infinite arguments, degenerate meshes, callbacks named as the script names them
+NAN, INF = "float('nan')", "float('inf')"
+BAD += [
+    (f"DEM({INF}, 0.01)", "DEM: argument 'duration' must be a finite number > 0, got inf"),
+    (f"DEM({NAN}, 0.01)", "DEM: argument 'duration' must be a finite number > 0, got nan"),
+    (f"DEM(0.1, {NAN})", "DEM: argument 'step' must be a finite number > 0, got nan"),
+    (f"SPHERE(({NAN}, 0, 0), 1.0, m, 1)", "SPHERE: argument 'center' must be a tuple of 3 finite numbers"),
+    (f"SPHERE((0, 0, 0), {INF}, m, 1)", "SPHERE: argument 'radius' must be a finite number > 0, got inf"),
+    (f"VELOCITY(p, ({NAN}, 0, 0))", "VELOCITY: argument 'linear' must be a tuple of 3 finite numbers"),
+    (f"VELOCITY(p, angular=(0, {INF}, 0))", "VELOCITY: argument 'angular' must be a tuple of 3 finite numbers"),
+    (f"MATERIAL({NAN}, 1e9, 0.25)", "MATERIAL: argument 'density' must be a finite number, got nan"),
+    (f"BALL_JOINT(p, ({NAN}, 0, 0), q)", "BALL_JOINT: argument 'point' must be a tuple of 3 finite numbers"),
+    (f"GRAVITY(0.0, 0.0, {NAN})", "GRAVITY: argument 'gz' must be a finite number, got nan"),
+    (f"SPRING(p, (0, 0, 0), -1, (0, 0, 0), [-1, -1, 1, {INF}])", "SPRING: argument 'spring' must be a list"),
+    ("MESH([0.0] * 24, [8, 0, 1, 2, 3, 4, 5, 6, 7, m], m, 1)", "MESH: the elements enclose no volume"),
+    (CUBE + "MESH([0.0] * 12 + nodes[12:], [8, 0, 1, 2, 3, 4, 5, 6, 7, m], m, 1)\nMESH([1.0] * 24, [4, 0, 1, 2, 3, m], m, 1)",
+     "MESH: the elements enclose no volume"),
+    ("def spin(t):\n    return (1.0, 2.0)\nPRESCRIBE(p, spin)\nDEM(0.02, 0.01)",
+     "PRESCRIBE 0: argument 'linear': the callback 'spin' must return a tuple of 3 finite numbers, got (1.0, 2.0)"),
+    (f"PRESCRIBE(q, angular=lambda t: (0.0, {NAN}, 0.0))\nDEM(0.02, 0.01)",
+     "PRESCRIBE 1: argument 'angular': the callback (lambda at line 6) must return a tuple of 3 finite numbers"),
+    ("PRESCRIBE(p, lambda t: (1.0 / t, 0.0, 0.0))\nDEM(0.02, 0.01)",
+     "PRESCRIBE 0: argument 'linear': the callback (lambda at line 6) raised ZeroDivisionError"),
+    ("def g(t):\n    return 'down'\nGRAVITY(0.0, 0.0, g)\nDEM(0.02, 0.01)",
+     "GRAVITY: argument 'gz': the callback 'g' must return a finite number, got 'down'"),
+]
 
 
 @pytest.mark.parametrize("body,message", BAD, ids=[f"bad{i:02d}" for i in range(len(BAD))])
@@ -527,6 +553,46 @@ def test_bad_input(tmp_path, body, message):
     with pytest.raises((ParmecError, NameError)) as e:  # NameError: an unknown command
         run_script(str(script), [], workdir=str(tmp_path))
     assert message in str(e.value), str(e.value)
+
+
+def test_tseries_file_with_a_non_number_names_the_file_and_line(tmp_path):
+    """A TSERIES file whose third line holds a word that is not a number: the error names the file and line."""
+    ts = tmp_path / "ts.txt"
+    ts.write_text("# t v\n0.0 0.0\n0.5 l.0\n1.0 2.0\n")
+    script = tmp_path / "ts.py"
+    script.write_text(f"TSERIES({str(ts)!r})\n")
+    with pytest.raises(ParmecError) as e:
+        run_script(str(script), [], workdir=str(tmp_path))
+    assert f"TSERIES: argument 'points': file '{ts}' line 3: expected a finite number, got 'l.0'" in str(e.value)
+
+
+def test_parmec_module_for_parmec_helper_scripts(tmp_path):
+    """Parmec's helper scripts import the commands from a module `parmec` (`from parmec import *`, `from parmec
+    import MESH` inside a function): both give the running script's commands; outside a script the module says
+    so."""
+    helper = tmp_path / "helper.py"
+    helper.write_text("from parmec import *\n\ndef cube(mat):\n    from parmec import MESH\n"
+                      "    return MESH([0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1],"
+                      " [8, 0, 1, 2, 3, 4, 5, 6, 7, mat], mat, 1)\n\ndef material():\n"
+                      "    return MATERIAL(1000.0, 1e9, 0.25)\n")
+    script = tmp_path / "uses_helper.py"
+    script.write_text(f"import sys\nsys.path.insert(0, {str(tmp_path)!r})\nimport helper\n"
+                      "p = helper.cube(helper.material())\nassert p == 0\nM = EQM(p, (0.5, 0.5, 0.5))\n")
+    ns = run_script(str(script), [], workdir=str(tmp_path))
+    assert abs(ns["M"] - 1000.0) <= 1e-9 * 1000.0  # the unit cube of density 1000, at its centre
+    import parmec
+    with pytest.raises(ParmecError) as e:
+        parmec.MESH
+    assert "only while a script runs" in str(e.value)
+
+
+def test_help_prints_usage_and_exits_0():
+    env = dict(os.environ, PYTHONPATH=os.path.join(HERE, "..", "..", "python"))
+    for flag in ("--help", "-h"):
+        r = subprocess.run([sys.executable, "-m", "dembridge.parmec", flag], capture_output=True, text=True,
+                           env=env, timeout=120)
+        assert r.returncode == 0, r.stderr
+        assert "python -m dembridge.parmec" in r.stdout and "--parmec-quirks" in r.stdout, r.stdout
 
 
 def test_eqm_and_critical(tmp_path):

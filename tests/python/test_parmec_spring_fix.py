@@ -770,3 +770,24 @@ def test_bad_input(name):
     assert msg is not None, f"{name}: no error"
     for e in expect:
         assert e in msg, f"{name}: '{e}' not in: {msg}"
+
+
+@pytest.mark.parametrize("factor,warns", [(0.3, False), (3.0, True)])
+def test_timestep_beyond_the_critical_step_warns(tmp_path, factor, warns):
+    """A timestep beyond CRITICAL's estimate (here: a point mass m = 2 on k = 100, h_crit = 2/ω = 2 sqrt(m/k))
+    is a WARNING at the run's set-up naming the fix, the step, the ratio and the critical step (the run then
+    loses the atom within a few steps); 0.3 of it runs without one."""
+    hc = 2.0 * math.sqrt(2.0 / 100.0)
+    h = factor * hc
+    log = run_lmp(tmp_path, ["units si", "atom_style sphere", "boundary f f f", "region box block -10 10 -10 10 -10 10",
+                             "create_box 1 box", "create_atoms 1 single 0 0 0 units box",
+                             "set atom 1 diameter 0.5 mass 2.0", "velocity all set 1 0 0 units box",
+                             "fix S all parmec/spring table K -1 -100 1 100 spring 1 1 centre -1 0 0 0 K direction 1 0 0",
+                             "fix I all nve/sphere", f"timestep {h!r}", "run 0"], 1)
+    lines = [l for l in log.splitlines() if "WARNING" in l and "critical step" in l]
+    if not warns:
+        assert not lines, lines
+        return
+    assert len(lines) == 1, log[-2000:]
+    assert f"fix S parmec/spring: timestep {h:.6g} is 3 times the critical step {hc:.6g}" in lines[0], lines[0]
+    assert "per particle, atom 1" in lines[0]

@@ -1,12 +1,21 @@
 """Parmec input scripts on LAMMPS + dembridge: `python -m dembridge.parmec model.py [args]`
 (doc/parmec_front_end.md). `run_script(path, argv)` runs a script in-process and returns its namespace."""
 import os
-import runpy  # noqa: F401
 
 from .errors import ParmecError
-from .model import Model
+from .model import COMMANDS, Model
 
-__all__ = ["ParmecError", "Model", "run_script"]
+__all__ = ["ParmecError", "Model", "run_script", "COMMANDS", "current_commands"]
+
+_sessions = []  # namespaces of the scripts being run (innermost last): what `import parmec` hands out
+
+
+def current_commands():
+    """The Parmec commands of the script being run (the `parmec` module's names)."""
+    if not _sessions:
+        raise ParmecError("parmec: the Parmec commands exist only while a script runs (python -m dembridge.parmec "
+                          "model.py, or dembridge.parmec.run_script)")
+    return _sessions[-1]
 
 
 def run_script(path, argv=(), quirks=False, workdir=None):
@@ -18,9 +27,11 @@ def run_script(path, argv=(), quirks=False, workdir=None):
     ns = model.namespace()
     code = compile(open(path).read(), path, "exec")
     cwd = os.getcwd()
+    _sessions.append({n: ns[n] for n in COMMANDS})
     try:
         exec(code, ns)
     finally:
+        _sessions.pop()
         os.chdir(cwd)
         model.reset_state()
     return ns

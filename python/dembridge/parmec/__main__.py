@@ -1,7 +1,12 @@
 """python -m dembridge.parmec [--parmec-quirks[=fixedQ1Q3]] [--workdir DIR] model.py [script arguments]
 
---parmec-quirks: upstream Parmec's behaviour (every quirk, doc/parmec_front_end.md); =fixedQ1Q3: all but Q1 and Q3
-(the second Parmec build of the oracle)."""
+Runs a Parmec input script on LAMMPS + dembridge (doc/parmec_front_end.md).
+
+options:
+  --parmec-quirks            upstream Parmec's behaviour, every quirk (default: corrected)
+  --parmec-quirks=fixedQ1Q3  every quirk but Q1 and Q3 (the oracle's second Parmec build)
+  --workdir DIR              keep the generated LAMMPS inputs and dumps in DIR (default: a temporary folder)
+  -h, --help                 print this help and exit"""
 import sys
 
 from . import ParmecError, run_script
@@ -9,8 +14,11 @@ from . import ParmecError, run_script
 
 def main(argv):
     quirks, workdir = False, None
-    while argv and argv[0].startswith("--"):
+    while argv and argv[0].startswith("-"):
         opt = argv.pop(0)
+        if opt in ("-h", "--help"):
+            print(__doc__)
+            return 0
         if opt == "--parmec-quirks":
             quirks = True
         elif opt == "--parmec-quirks=fixedQ1Q3":
@@ -18,10 +26,12 @@ def main(argv):
         elif opt == "--workdir" and argv:
             workdir = argv.pop(0)
         else:
-            print(f"dembridge.parmec: unknown option {opt!r} (expected --parmec-quirks, --parmec-quirks=fixedQ1Q3, --workdir DIR)", file=sys.stderr)
+            print(f"dembridge.parmec: unknown option {opt!r} (expected --parmec-quirks, --parmec-quirks=fixedQ1Q3, "
+                  "--workdir DIR or --help)", file=sys.stderr)
             return 2
     if not argv:
-        print("usage: python -m dembridge.parmec [--parmec-quirks] [--workdir DIR] model.py [args]", file=sys.stderr)
+        print("usage: python -m dembridge.parmec [--parmec-quirks] [--workdir DIR] model.py [args] (--help: more)",
+              file=sys.stderr)
         return 2
     try:
         run_script(argv[0], argv[1:], quirks=quirks, workdir=workdir)

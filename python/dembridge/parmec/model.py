@@ -11,22 +11,27 @@ from . import geometry as geo
 from . import vtk_output
 
 REAL_MAX = sys.float_info.max
+# the Parmec commands of a script's namespace (and of the `parmec` module)
+COMMANDS = ("ARGV", "RESET", "TSERIES", "MATERIAL", "SPHERE", "MESH", "ANALYTICAL", "OBSTACLE", "SPRING",
+            "TORSION_SPRING", "UNSPRING", "BALL_JOINT", "EQM", "GRANULAR", "RESTRAIN", "PRESCRIBE", "VELOCITY",
+            "GRAVITY", "DAMPING", "CRITICAL", "HISTORY", "OUTPUT", "DEM")
 
 
 def _is_real(x):
-    return isinstance(x, numbers.Real) and not isinstance(x, bool)
+    """A finite real number (not a bool): NaN and infinities are refused wherever a number is expected."""
+    return isinstance(x, numbers.Real) and not isinstance(x, bool) and math.isfinite(x)
 
 
 def _vec(cmd, name, v, n=3):
     if not isinstance(v, (tuple, list)) or len(v) != n or not all(_is_real(c) for c in v):
-        fail(cmd, f"argument '{name}' must be a tuple of {n} numbers, got {v!r}")
+        fail(cmd, f"argument '{name}' must be a tuple of {n} finite numbers, got {v!r}")
     return [float(c) for c in v]
 
 
 def _table(cmd, name, t):
     """Parmec lookup table [x1, y1, x2, y2, ...]: even length >= 4, x strictly increasing."""
     if not isinstance(t, (list, tuple)) or not all(_is_real(c) for c in t):
-        fail(cmd, f"argument '{name}' must be a list [x1, y1, x2, y2, ...] of numbers, got {t!r}")
+        fail(cmd, f"argument '{name}' must be a list [x1, y1, x2, y2, ...] of finite numbers, got {t!r}")
     if len(t) < 4 or len(t) % 2:
         fail(cmd, f"argument '{name}' must have an even number (>= 4) of entries, got {len(t)}")
     xs = t[0::2]
@@ -51,7 +56,7 @@ def tseries_value(ts, t):
 
 def _positive(cmd, name, v, t):
     if not _is_real(v) or not v > 0:
-        fail(cmd, f"argument '{name}' gave {v!r} at t = {t!r}: an output interval must be a number > 0")
+        fail(cmd, f"argument '{name}' gave {v!r} at t = {t!r}: an output interval must be a finite number > 0")
     return float(v)
 
 
@@ -148,10 +153,7 @@ class Model:
         self.motion_changed = False  # PRESCRIBE/GRAVITY/DAMPING given after a DEM call
 
     def namespace(self):
-        names = ["ARGV", "RESET", "TSERIES", "MATERIAL", "SPHERE", "MESH", "ANALYTICAL", "OBSTACLE", "SPRING",
-                 "TORSION_SPRING", "UNSPRING", "BALL_JOINT", "EQM", "GRANULAR", "RESTRAIN", "PRESCRIBE", "VELOCITY",
-                 "GRAVITY", "DAMPING", "CRITICAL", "HISTORY", "OUTPUT", "DEM"]
-        ns = {n: _checked_call(n, getattr(self, n)) for n in names}
+        ns = {n: _checked_call(n, getattr(self, n)) for n in COMMANDS}
         ns["__name__"] = "__main__"
         ns["__file__"] = self.script or "<parmec>"
         return ns
@@ -179,6 +181,8 @@ class Model:
         if callable(g):
             return ("call", g)
         if isinstance(g, float):
+            if not math.isfinite(g):
+                fail(cmd, f"argument '{name}' must be a finite number, got {g!r}")
             return ("const", g)
         if isinstance(g, int) and not isinstance(g, bool):
             return ("tseries", self._tseries_ref(cmd, name, g))
@@ -204,9 +208,17 @@ class Model:
             if not os.path.exists(points):
                 fail(cmd, f"argument 'points': file '{points}' does not exist")
             vals = []
-            for line in open(points):
-                line = line.split("#")[0].split()
-                vals += [float(x) for x in line]
+            with open(points) as f:
+                for no, line in enumerate(f, 1):
+                    for word in line.split("#")[0].split():
+                        try:
+                            v = float(word)
+                        except ValueError:
+                            v = math.nan
+                        if not math.isfinite(v):
+                            fail(cmd, f"argument 'points': file '{points}' line {no}: expected a finite number, "
+                                      f"got {word!r}")
+                        vals.append(v)
             points = vals
         if isinstance(points, (list, tuple)) and points and isinstance(points[0], (list, tuple)):
             flat = []
@@ -223,7 +235,7 @@ class Model:
         cmd = "MATERIAL"
         for n, v in (("density", density), ("young", young), ("poisson", poisson)):
             if not _is_real(v):
-                fail(cmd, f"argument '{n}' must be a number, got {v!r}")
+                fail(cmd, f"argument '{n}' must be a finite number, got {v!r}")
         if density <= 0:
             fail(cmd, f"argument 'density' must be > 0, got {density}")
         if young <= 0 or not 0 <= poisson < 0.5:
@@ -241,7 +253,7 @@ class Model:
         self._modifiable(cmd)
         c = _vec(cmd, "center", center)
         if not _is_real(radius) or radius <= 0:
-            fail(cmd, f"argument 'radius' must be a number > 0, got {radius!r}")
+            fail(cmd, f"argument 'radius' must be a finite number > 0, got {radius!r}")
         m = self._material(cmd, material)
         if not isinstance(color, int) or color <= 0:
             fail(cmd, f"argument 'color' must be a positive integer, got {color!r}")
@@ -254,7 +266,7 @@ class Model:
         cmd = "MESH"
         self._modifiable(cmd)
         if not isinstance(nodes, (list, tuple)) or len(nodes) < 12 or len(nodes) % 3 or not all(_is_real(x) for x in nodes):
-            fail(cmd, "argument 'nodes' must be a flat list [x0, y0, z0, x1, ...] of at least 4 nodes")
+            fail(cmd, "argument 'nodes' must be a flat list [x0, y0, z0, x1, ...] of at least 4 nodes (finite numbers)")
         m = self._material(cmd, material)
         nn = len(nodes) // 3
         k = 0
@@ -294,7 +306,13 @@ class Model:
             face_color[face] = c
             k += f + 2
         dens = {i: mat[0] for i, mat in enumerate(self.materials)}
-        mass, centre, J, vol = geo.mesh_mass_properties(nodes, elements, dens)
+        try:
+            mass, centre, J, vol = geo.mesh_mass_properties(nodes, elements, dens)
+        except ZeroDivisionError:
+            vol = 0.0
+        if not vol > 0.0:
+            fail(cmd, f"the elements enclose no volume (zero-volume mesh: coincident or coplanar nodes); a MESH "
+                      f"particle needs a positive volume, got nodes {list(nodes)!r}")
         r = math.sqrt((J[0][0] + J[1][1] + J[2][2]) / 3.0 / (0.4 * mass))
         p = Particle("MESH", mass, centre, J, r, m, colors[0])
         p.nodes = [float(x) for x in nodes]
@@ -325,7 +343,7 @@ class Model:
         if mass is None:
             mass = base.mass if base else 1.0
         if not _is_real(mass) or mass <= 0:
-            fail(cmd, f"argument 'mass' must be a number > 0, got {mass!r}")
+            fail(cmd, f"argument 'mass' must be a finite number > 0, got {mass!r}")
         rot = [list(r) for r in base.rotation] if base else [[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0]]
         if rotation is not None:
             r = _vec(cmd, "rotation", rotation, 9)
@@ -782,9 +800,9 @@ class Model:
     def DEM(self, duration, step, interval=None, prefix=None, adaptive=0.0):
         cmd = "DEM"
         if not _is_real(duration) or duration <= 0:
-            fail(cmd, f"argument 'duration' must be a number > 0, got {duration!r}")
+            fail(cmd, f"argument 'duration' must be a finite number > 0, got {duration!r}")
         if not _is_real(step) or step <= 0:
-            fail(cmd, f"argument 'step' must be a number > 0, got {step!r}")
+            fail(cmd, f"argument 'step' must be a finite number > 0, got {step!r}")
         if not _is_real(adaptive) or not 0.0 <= adaptive <= 1.0:
             fail(cmd, f"argument 'adaptive' must be 0 (off) or a reduction factor in (0, 1], got {adaptive!r}")
         if adaptive > 0.0:

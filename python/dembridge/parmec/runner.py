@@ -220,7 +220,8 @@ class Runner:
         for k, ob in enumerate(self.model.obstacles):
             for part in ("linear", "angular"):
                 if ob["point"] is not None and ob[part] is not None:
-                    self._obstacle_names[(k, part)] = self._triple(out, f"OB{k}{part[0]}", ob[part])
+                    self._obstacle_names[(k, part)] = self._triple(out, f"OB{k}{part[0]}", ob[part],
+                                                                   f"OBSTACLE {k}: argument '{part}'")
         return out
 
     def _torsions(self):
@@ -264,7 +265,7 @@ class Runner:
         return "\n".join(out) + "\n"
 
     # time-dependent sources: TSERIES by number, callbacks tabulated at the step times of the first DEM call
-    def _sources(self, out, key, src, at_next=False):
+    def _sources(self, out, key, src, who):
         m = self.model
         kind, val = src
         if kind == "const":
@@ -279,18 +280,26 @@ class Runner:
         self.callbacks_used = True
         pts = []
         for t in self._times:  # keyed by Parmec's accumulated clock, as fix parmec/rigid evaluates them
-            pts += [_r(t), _r(val(t))]
+            v = _call(val, t, who)
+            if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v):
+                cmd, arg = who.split(": ", 1)
+                fail(cmd, f"{arg}: the callback {_name(val)} must return a finite number, got {v!r} at t = {t!r}")
+            pts += [_r(t), _r(v)]
         out.append(f"tseries {key} " + " ".join(pts))
         return key
 
-    def _triple(self, out, key, src):
+    def _triple(self, out, key, src, who):
+        """who: the command and argument as the script wrote them ("PRESCRIBE 3: argument 'linear'")."""
         kind, val = src
         if kind == "tseries3":
-            return [self._sources(out, None, ("tseries", k)) for k in val]
-        vals = [val(t) for t in self._times]
-        for v in vals:
-            if not isinstance(v, (tuple, list)) or len(v) != 3:
-                fail("DEM", f"a callback ({key}) must return a tuple of 3 numbers, got {v!r}")
+            return [self._sources(out, None, ("tseries", k), who) for k in val]
+        vals = [_call(val, t, who) for t in self._times]
+        for t, v in zip(self._times, vals):
+            if not isinstance(v, (tuple, list)) or len(v) != 3 or not all(
+                    isinstance(c, (int, float)) and not isinstance(c, bool) and math.isfinite(c) for c in v):
+                cmd, arg = who.split(": ", 1)
+                fail(cmd, f"{arg}: the callback {_name(val)} must return a tuple of 3 finite numbers, got {v!r} at "
+                          f"t = {t!r}")
         names = []
         for c in range(3):
             names.append(f"{key}{c}")
@@ -302,16 +311,17 @@ class Runner:
         """GRAVITY, DAMPING and PRESCRIBE definitions; callbacks tabulated at this DEM call's step times."""
         m = self.model
         if m.gravity:
-            out.append("gravity " + " ".join(self._sources(out, f"G{c}", g) for c, g in enumerate(m.gravity)))
+            out.append("gravity " + " ".join(self._sources(out, f"G{c}", g, f"GRAVITY: argument 'g{'xyz'[c]}'")
+                                             for c, g in enumerate(m.gravity)))
         if m.damping:
-            lin = self._triple(out, "DL", m.damping[0])
-            ang = self._triple(out, "DA", m.damping[1])
+            lin = self._triple(out, "DL", m.damping[0], "DAMPING: argument 'linear'")
+            ang = self._triple(out, "DA", m.damping[1], "DAMPING: argument 'angular'")
             out.append("damping linear " + " ".join(lin) + " angular " + " ".join(ang))
         for i, p in sorted(m.prescriptions.items()):
             line = f"prescribe {i + 1}"
             for part, letter in (("linear", p["kind"][0]), ("angular", p["kind"][1])):
                 if p[part] is not None:
-                    names = self._triple(out, f"P{i}{part[0]}", p[part])
+                    names = self._triple(out, f"P{i}{part[0]}", p[part], f"PRESCRIBE {i}: argument '{part}'")
                     line += f" {part} {letter} " + " ".join(names)
             out.append(line)
 
@@ -547,6 +557,26 @@ class Runner:
                     row = torsions.get(i)
                     vals.append(0.0 if row is None else row[TORSION.index(r["entity"])])
             r["list"].append(sum(vals) / len(vals))
+
+
+def _name(f):
+    """A callback as the script names it: its function name (a lambda: its source line)."""
+    name = getattr(f, "__name__", None) or repr(f)
+    if name == "<lambda>":
+        code = getattr(f, "__code__", None)
+        return f"(lambda at line {code.co_firstlineno})" if code else "(lambda)"
+    return f"'{name}'"
+
+
+def _call(f, t, who):
+    """f(t), an exception inside the script's callback reported with the command that holds it."""
+    try:
+        return f(t)
+    except ParmecError:
+        raise
+    except Exception as e:
+        cmd, arg = who.split(": ", 1)
+        fail(cmd, f"{arg}: the callback {_name(f)} raised {type(e).__name__}: {e} at t = {t!r}")
 
 
 def geo_max():

@@ -392,7 +392,7 @@ BAD = [
     ("OBSTACLE([T], 1, point=(0, 0), linear=lambda t: (0, 0, 1))", "OBSTACLE: argument 'point'"),
     ("OBSTACLE([T], 1, point=(0, 0, 0), linear=(0, 0))", "OBSTACLE: argument 'linear'"),
     ("OBSTACLE([T], 1, point=(0, 0, 0), linear=lambda t: (0, 1))\nGRANULAR(1, 1, 1e5)\nDEM(0.001, 1e-4)",
-     "DEM: a callback (OB0l) must return a tuple of 3 numbers"),
+     "OBSTACLE 0: argument 'linear': the callback (lambda at line"),
     (MESH_CUBE + MESH_CUBE + "GRANULAR(1, 1, 1e5)\nDEM(0.001, 1e-4)",
      "DEM: MESH particles 1 and 2: the GRANULAR pairing of their colours (1, 1) has spring > 0"),
     ("GRANULAR(0, 0, 1e5)\n" + MESH_CUBE + MESH_CUBE + "DEM(0.001, 1e-4)",

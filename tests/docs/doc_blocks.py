@@ -59,3 +59,31 @@ def rel(path):
 def decks():
     """(id 'doc/page.md:LINE', deck text) of every block tagged ``lammps``."""
     return [(f"{rel(p)}:{n}", body) for p in pages() for n, lang, body in blocks(p) if lang == RUNNABLE]
+
+
+# A ```lammps-fragment block that is not a synopsis (`fix ID group-ID style ...`) says, on the line before its
+# fence, how the docs test treats it:
+#   <!-- docs-test: deck PROLOGUE -->     the block runs as one deck after the prologue (fragment_decks.py)
+#   <!-- docs-test: lines PROLOGUE -->    each command of the block runs on its own after the prologue
+#   <!-- docs-test: not run: REASON -->   why it cannot run on its own (on purpose)
+_MARKER = re.compile(r"^\s*<!--\s*docs-test:\s*(?P<how>deck|lines|not run:)\s*(?P<what>.*?)\s*-->\s*$")
+
+
+def is_synopsis(body):
+    words = body.split()
+    return len(words) > 1 and words[1] == "ID"
+
+
+def fragments():
+    """(id 'doc/page.md:LINE', body, marker) of every ```lammps-fragment block that is not a synopsis;
+    marker = (how, what) from the docs-test comment before the fence, or None."""
+    out = []
+    for p in pages():
+        lines = open(p, encoding="utf-8").read().splitlines()
+        for n, lang, body in blocks(p):
+            if lang != "lammps-fragment" or is_synopsis(body):
+                continue
+            prev = next((lines[k] for k in range(n - 2, -1, -1) if lines[k].strip()), "")
+            m = _MARKER.match(prev)
+            out.append((f"{rel(p)}:{n}", body, (m.group("how").rstrip(":"), m.group("what")) if m else None))
+    return out

@@ -153,7 +153,8 @@ std::string num(double v)
 }
 
 const char *kKeywords =
-    "path, port, host, create, coupling, orientation, labels, accelerations, reference_node, node, "
+    "path, port, host, create, coupling, orientation, labels, sorted, accelerations, reference_node, "
+    "reference_forces, rotate_reference_forces, reference, node, "
     "substeps, mbdyn_dt, loads, predictor, startup_exchange, gravity, connect_timeout, io_timeout, tolerance, "
     "max_iterations, profile";
 
@@ -202,32 +203,54 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
       o.nodal.accelerations = parse_yes_no(kw, value("yes or no"), prefix, error);
     } else if (kw == "reference_node") {
       o.nodal.reference_node = parse_yes_no(kw, value("yes or no"), prefix, error);
-    } else if (kw == "node") {
-      const std::string what = value("'atom ATOM-ID', 'group GROUP-ID' or 'mesh MESH-ID'");
+    } else if (kw == "reference_forces") {
+      use_reference_forces_ = parse_yes_no(kw, value("yes or no"), prefix, error);
+      reference_forces_given_ = true;
+    } else if (kw == "rotate_reference_forces") {
+      rotate_reference_forces_ = parse_yes_no(kw, value("yes or no"), prefix, error);
+      reference_forces_given_ = true;
+    } else if (kw == "sorted") {
+      sorted_ = parse_yes_no(kw, value("yes or no"), prefix, error);
+    } else if (kw == "node" || kw == "reference") {
+      // `reference atom|group`: the atoms that follow MBDyn's reference node itself; their loads
+      // enter the reference record only (MBDyn applies the remainder to the reference node)
+      const bool ref = kw == "reference";
+      const std::string label = ref ? std::string("reference") : "node " + std::to_string(nodes_.size() + 1);
+      const std::string what = value(ref ? "'atom ATOM-ID' or 'group GROUP-ID'"
+                                         : "'atom ATOM-ID', 'group GROUP-ID' or 'mesh MESH-ID'");
       NodeSpec n;
+      n.is_reference = ref;
+      if (ref && reference_body_)
+        error->all(FLERR, prefix + "keyword 'reference' given twice: one body follows the reference node");
       if (what == "atom") {
         const std::string v = value("an atom ID");
         n.is_atom = true;
-        n.tag = static_cast<tagint>(parse_int("node atom", v, prefix, error, "a positive atom ID", 1));
+        n.tag = static_cast<tagint>(parse_int(kw + " atom", v, prefix, error, "a positive atom ID", 1));
         n.text = "atom " + v;
       } else if (what == "group") {
         n.is_atom = false;
         n.group = value("a group ID");
         const int g = group->find(n.group);
         if (g < 0)
-          error->all(FLERR, prefix + "node " + std::to_string(nodes_.size() + 1) + ": group '" + n.group +
+          error->all(FLERR, prefix + label + ": group '" + n.group +
                                 "' does not exist (define it with the group command before fix mbdyn)");
         n.groupbit = group->bitmask[g];
         n.text = "group " + n.group;
-      } else if (what == "mesh") {
+      } else if (what == "mesh" && !ref) {
         n.is_atom = false;
         n.is_mesh = true;
         n.group = value("the ID of a fix mesh/surface/stress");
         n.mesh = static_cast<int>(meshes_.size());
         meshes_.emplace_back();
         n.text = "mesh " + n.group;
+      } else if (ref) {
+        error->all(FLERR, prefix + "keyword 'reference' expects 'atom ATOM-ID' or 'group GROUP-ID', got '" + what + "'");
       } else {
         error->all(FLERR, prefix + "keyword 'node' expects 'atom ATOM-ID', 'group GROUP-ID' or 'mesh MESH-ID', got '" + what + "'");
+      }
+      if (ref) {
+        reference_body_ = std::make_unique<NodeSpec>(n);
+        continue;
       }
       nodes_.push_back(n);
     } else if (kw == "substeps") {
@@ -272,14 +295,24 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
                                "external structural element, in the element's order");
   if (substeps_given && mbdyn_dt_ > 0)
     error->all(FLERR, prefix + "give either 'substeps' or 'mbdyn_dt', not both");
+  o.nodal.num_points = static_cast<std::uint32_t>(nodes_.size());
+  num_points_ = nodes_.size();
+  if (reference_body_) nodes_.push_back(*reference_body_);  // the last slot: poses and loads like a point's
   for (std::size_t a = 0; a < nodes_.size(); ++a)
     for (std::size_t b = a + 1; b < nodes_.size(); ++b)
       if (nodes_[a].is_atom == nodes_[b].is_atom && nodes_[a].is_mesh == nodes_[b].is_mesh &&
           (nodes_[a].is_atom ? nodes_[a].tag == nodes_[b].tag : nodes_[a].group == nodes_[b].group))
-        error->all(FLERR, prefix + "nodes " + std::to_string(a + 1) + " and " + std::to_string(b + 1) + " are both '" +
-                              nodes_[a].text + "': an atom or a mesh can follow only one MBDyn point");
+        error->all(FLERR, prefix + slot_name(a) + " and " + slot_name(b) + " are both '" + nodes_[a].text +
+                              "': an atom or a mesh can follow only one MBDyn point");
+  if (!sorted_ && !o.nodal.labels)
+    error->all(FLERR, prefix + "'sorted no' needs 'labels yes' (MBDyn matches loads by label only with labels)");
+  if (!o.nodal.reference_node && (reference_forces_given_ || reference_body_))
+    error->all(FLERR, prefix + std::string(reference_body_ ? "'reference' needs" : "'reference_forces' and 'rotate_reference_forces' need") +
+                          " 'reference_node yes' (MBDyn's `reference node`)");
+  if (reference_body_ && !use_reference_forces_)
+    error->all(FLERR, prefix + "'reference' needs 'reference_forces yes': with MBDyn's `use reference node forces, no` "
+                               "nothing the reference body feels would reach MBDyn");
   o.endpoint = path.empty() ? mb::Endpoint::tcp(host, static_cast<std::uint16_t>(port)) : mb::Endpoint::unix_path(path);
-  o.nodal.num_points = static_cast<std::uint32_t>(nodes_.size());
   tight_ = o.coupling == mb::Coupling::Tight;
   if (!startup_exchange_ && !tight_)
     error->all(FLERR, prefix + "'startup_exchange no' is for coupling tight (in loose MBDyn always exchanges at t0)");
@@ -458,14 +491,14 @@ void FixMBDyn::check_atoms()
         if (atom->tag[i] == n.tag) ++mine;
       MPI_Allreduce(&mine, &count, 1, MPI_LMP_BIGINT, MPI_SUM, world);
       if (count == 0)
-        error->all(FLERR, prefix + "node " + std::to_string(k + 1) + " (" + n.text + "): no atom with ID " +
+        error->all(FLERR, prefix + slot_name(k) + " (" + n.text + "): no atom with ID " +
                               std::to_string(n.tag) + " exists");
     } else if (!n.is_mesh) {
       const int g = group->find(n.group);
       if (g < 0)
-        error->all(FLERR, prefix + "node " + std::to_string(k + 1) + " (" + n.text + "): the group was deleted");
+        error->all(FLERR, prefix + slot_name(k) + " (" + n.text + "): the group was deleted");
       if (group->count(g) == 0)
-        error->all(FLERR, prefix + "node " + std::to_string(k + 1) + " (" + n.text + "): the group has no atoms");
+        error->all(FLERR, prefix + slot_name(k) + " (" + n.text + "): the group has no atoms");
     }
   }
 }
@@ -550,6 +583,11 @@ FixMBDyn::Message FixMBDyn::receive_broadcast(const char *expecting)
   return m;
 }
 
+std::string FixMBDyn::slot_name(std::size_t k) const
+{
+  return k == num_points_ ? std::string("reference") : "node " + std::to_string(k + 1);
+}
+
 const mb::Kinematics &FixMBDyn::kinematics() const
 {
   return comm->me == 0 ? session_->kinematics() : *kin_;
@@ -587,7 +625,7 @@ void FixMBDyn::decode_poses(std::vector<Pose> &out)
     }
     return;
   }
-  for (std::size_t i = 0; i < out.size(); ++i) {
+  for (std::size_t i = 0; i < num_points_; ++i) {
     Pose &p = out[i];  // every field is written below
     const V3 x = k.position(i), v = k.velocity(i);
     V3 w{0, 0, 0};
@@ -618,6 +656,13 @@ void FixMBDyn::decode_poses(std::vector<Pose> &out)
       }
       p.R = mat_mul(ref_R_, R);
     }
+  }
+  if (reference_body_) {  // the reference body's slot: the reference node's own absolute pose
+    Pose &p = out[num_points_];
+    p.x = k.reference.x;
+    p.v = k.reference.v;
+    p.w = rot ? k.reference.omega : V3{0, 0, 0};
+    p.R = ref_R_;
   }
 }
 
@@ -672,8 +717,8 @@ void FixMBDyn::bind_atoms()
     m.r[2] = all[j + 4];
     auto ins = members_.emplace(tag, m);
     if (!ins.second)
-      fail_all("atom " + std::to_string(tag) + " belongs to node " + std::to_string(ins.first->second.node + 1) + " (" +
-               nodes_[ins.first->second.node].text + ") and to node " + std::to_string(m.node + 1) + " (" +
+      fail_all("atom " + std::to_string(tag) + " belongs to " + slot_name(ins.first->second.node) + " (" +
+               nodes_[ins.first->second.node].text + ") and to " + slot_name(m.node) + " (" +
                nodes_[m.node].text + "): an atom can follow only one MBDyn point");
     ++per_node[m.node];
     node_radius_[m.node] = std::max(node_radius_[m.node], std::sqrt(m.r[0] * m.r[0] + m.r[1] * m.r[1] + m.r[2] * m.r[2]));
@@ -682,7 +727,7 @@ void FixMBDyn::bind_atoms()
     if (nodes_[k].is_mesh) meshes_[nodes_[k].mesh].bind(poseA_[k].x, poseA_[k].R);
   for (std::size_t k = 0; k < nodes_.size(); ++k)
     if (per_node[k] == 0 && !nodes_[k].is_mesh)
-      fail_all("node " + std::to_string(k + 1) + " (" + nodes_[k].text + "): no atom to couple");
+      fail_all(slot_name(k) + " (" + nodes_[k].text + "): no atom to couple");
   allbits_ = 0;
   bool any_atom = false;
   for (const NodeSpec &n : nodes_) {
@@ -847,14 +892,16 @@ void FixMBDyn::send_answer(const std::vector<double> &loads6, bool converged, co
   for (std::size_t k = 0; k < nodes_.size(); ++k) {
     const double *F = &loads6[6 * k], *M = &loads6[6 * k + 3];
     if (c.reference_node) {
-      // Loads in the reference node's frame (spec §4.3); the reference record carries the
-      // resultant about x_ref, in the reference frame (rotate reference node forces, yes).
+      // Loads in the reference node's frame (spec §4.3); the reference record carries the total
+      // resultant about x_ref (MBDyn's `use reference node forces`): the points' loads and the
+      // reference body's, so MBDyn applies to the reference node what its body felt.
       const double dx[3] = {cur_[k].x[0] - ref_x_[0], cur_[k].x[1] - ref_x_[1], cur_[k].x[2] - ref_x_[2]};
       const V3 dxf = cross(dx, F);
       for (int a = 0; a < 3; ++a) {
         F0[a] += F[a];
         M0[a] += M[a] + dxf[a];
       }
+      if (k == num_points_) break;  // the reference body: in the record only
       const V3 Fl = mat_t_vec(ref_R_, F), Ml = mat_t_vec(ref_R_, M);
       for (int a = 0; a < 3; ++a) l.force[3 * k + a] = Fl[a];
       if (c.has_rotation())
@@ -866,8 +913,12 @@ void FixMBDyn::send_answer(const std::vector<double> &loads6, bool converged, co
     }
   }
   if (c.reference_node) {
-    l.reference_force = mat_t_vec(ref_R_, F0.data());
-    if (c.has_rotation()) l.reference_moment = mat_t_vec(ref_R_, M0.data());
+    // `use reference node forces, no`: MBDyn reads the record and ignores it; zeros say so.
+    // `rotate reference node forces, no`: the record in the global frame.
+    const V3 zero{0, 0, 0};
+    l.reference_force = !use_reference_forces_ ? zero : rotate_reference_forces_ ? mat_t_vec(ref_R_, F0.data()) : F0;
+    if (c.has_rotation())
+      l.reference_moment = !use_reference_forces_ ? zero : rotate_reference_forces_ ? mat_t_vec(ref_R_, M0.data()) : M0;
   }
   // compute_array reads the answer itself when it holds all six global components
   if (!answer_is_global6()) sent_ = loads6;

@@ -55,6 +55,7 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   struct NodeSpec {
     bool is_atom = true;
     bool is_mesh = false;  // node mesh MESH-ID: drives mesh_driver (index into meshes_)
+    bool is_reference = false;  // `reference atom|group`: follows MBDyn's reference node (last slot)
     int mesh = -1;
     LAMMPS_NS::tagint tag = 0;
     std::string group;  // group ID, or the mesh fix ID
@@ -74,6 +75,7 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   };
 
   std::string where() const;
+  std::string slot_name(std::size_t k) const;  // "node 3", or "reference" for the reference body
   [[noreturn]] void fail_all(const std::string &why);
   void check_atoms();
   void open_session();
@@ -106,7 +108,13 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   bool answer_is_global6() const;
 
   // configuration
-  std::vector<NodeSpec> nodes_;
+  std::vector<NodeSpec> nodes_;  // MBDyn's points in the element's order, then the reference body if any
+  std::size_t num_points_ = static_cast<std::size_t>(-1);  // MBDyn's points: nodes_ without the reference body
+  std::unique_ptr<NodeSpec> reference_body_;              // as parsed (also the last entry of nodes_)
+  bool use_reference_forces_ = true;     // MBDyn `use reference node forces`
+  bool rotate_reference_forces_ = true;  // MBDyn `rotate reference node forces`
+  bool reference_forces_given_ = false;
+  bool sorted_ = true;  // MBDyn `sorted`: the answer is in the received order either way
   std::unique_ptr<mbdyn::SessionOptions> options_;
   int substeps_ = 1;
   double mbdyn_dt_ = -1.0;

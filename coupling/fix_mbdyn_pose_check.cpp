@@ -69,10 +69,10 @@ void FixMBDyn::check_poses(const std::vector<Pose> &poses)
       const std::string why = mbdyn::rotation_matrix_defect(k.reference_rotation_matrix());
       if (!why.empty()) fail_all("the reference node's orientation matrix" + at + " " + why);
     }
-    for (std::size_t i = 0; i < poses.size(); ++i) {
+    for (std::size_t i = 0; i < num_points_; ++i) {  // the reference body's slot: checked above
       const std::string why = mbdyn::rotation_matrix_defect(mbdyn::matrix_from_wire_column_major(&k.orientation[9 * i]));
       if (!why.empty())
-        fail_all("node " + std::to_string(i + 1) + " (" + nodes_[i].text + "): MBDyn's orientation matrix" + at + " " + why);
+        fail_all(slot_name(i) + " (" + nodes_[i].text + "): MBDyn's orientation matrix" + at + " " + why);
     }
   }
   for (std::size_t i = 0; i < poses.size(); ++i) {
@@ -82,7 +82,7 @@ void FixMBDyn::check_poses(const std::vector<Pose> &poses)
     const double radius = n.is_atom ? 0.0 : node_radius_[i];
     const int d = outside_box(domain, p.x.data(), radius);
     if (d < 0) continue;
-    const std::string head = "node " + std::to_string(i + 1) + " (" + n.text + "): MBDyn's position " + vec_text(p.x.data()) + at;
+    const std::string head = slot_name(i) + " (" + n.text + "): MBDyn's position " + vec_text(p.x.data()) + at;
     if (n.is_atom) fail_all(head + " puts atom " + std::to_string(n.tag) + " " + box_text(domain, d) + "; LAMMPS would lose it");
     // The bounding sphere reaches out of the box: look at the atoms themselves.
     for (const auto &tm : member_list_) {

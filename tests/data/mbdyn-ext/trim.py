@@ -1,0 +1,45 @@
+"""Regenerates the trimmed copies here from the real-MBDyn 1.7.3 recordings (README.md here).
+Usage: python3 trim.py <mbdyn-ext folder>. Values are copied verbatim; only whole messages (loose)
+or whole steps (tight: the prediction, every iterate and their answers) are left out."""
+import csv
+import gzip
+import os
+import sys
+
+src, here = sys.argv[1], os.path.dirname(os.path.abspath(__file__))
+
+
+def rows_of(path):
+    return list(csv.DictReader(gzip.open(path, "rt")))
+
+
+def steps(rows):
+    """[head rows], [[rows of one exchange group]]: a group starts at a kinematics message that
+    follows an answer 6 (the start of an MBDyn step); the start-up exchange is group 0."""
+    head, groups, new = [], [], True
+    for r in rows:
+        if r["cmd"] in ("7", "8"):
+            head.append(r)
+        elif r["cmd"] == "5":
+            groups.append([r])
+        else:
+            if r["dir"] == "mbdyn->peer" and new:
+                groups.append([])
+                new = False
+            groups[-1].append(r)
+            if r["dir"] == "peer->mbdyn" and r["cmd"] == "6":
+                new = True
+    return head, groups
+
+
+def trim(name, every):
+    head, groups = steps(rows_of(os.path.join(src, "refnode_forces", name)))
+    keep = head + [r for i, g in enumerate(groups) if i == 0 or i % every == 0 or g[0]["cmd"] == "5" for r in g]
+    with gzip.open(os.path.join(here, "refnode_forces", name), "wt", compresslevel=9) as f:
+        w = csv.DictWriter(f, fieldnames=["seq", "dir", "cmd", "values"], lineterminator="\n")
+        w.writeheader()
+        w.writerows(keep)
+
+
+trim("transcript_loose.csv.gz", 4)
+trim("transcript_tight.csv.gz", 8)

@@ -1,5 +1,6 @@
 #include "dump_mesh.h"
 
+#include "dump_modify_snapshot.h"
 #include "mesh_args.h"
 #include "style_registry.h"
 
@@ -33,7 +34,7 @@ const char *unsupported_vtk_keyword(const std::string &w)
 
 DumpMesh::DumpMesh(LAMMPS *lmp, int narg, char **arg) : Dump(lmp, narg, arg)
 {
-  out_.vtk = std::strcmp(arg[2], "mesh/vtk") == 0;
+  out_.vtk = std::strcmp(arg[2], "mesh/stl") != 0 && std::strcmp(arg[2], "stl") != 0;  // mesh/gran/VTK = mesh/vtk
   out_.caller = std::string("dump ") + arg[2] + " (id " + arg[0] + ")";
   out_.fields = mesh::VtkFields::none();
   out_.file = arg[4];
@@ -60,7 +61,7 @@ DumpMesh::DumpMesh(LAMMPS *lmp, int narg, char **arg) : Dump(lmp, narg, arg)
     if (out_.mesh_ids.empty() && comm->me == 0)
       error->warning(FLERR, out_.caller + ": no fix mesh/surface defined yet, so the files will hold no triangles");
   }
-  modify_fields_at_creation_ = modify_fields();
+  modify_fields_at_creation_ = dump_modify_snapshot(this);
 }
 
 // write() is ours, so the Dump base's file handling, formats, sorting, delay, skip ... never run: a
@@ -72,18 +73,6 @@ void DumpMesh::unsupported_modify_keyword(const std::string &keyword)
 }
 
 int DumpMesh::modify_param(int, char **arg) { unsupported_modify_keyword(arg[0]); }
-
-// The bytes of the Dump fields that liblammps's own dump_modify keywords set (lammps_dump_base.h); empty
-// against a LAMMPS that ships dump.h (its fields are not measured: those keywords are not checked there).
-std::vector<unsigned char> DumpMesh::modify_fields() const
-{
-  std::vector<unsigned char> bytes;
-#ifdef DEMBRIDGE_DUMP_MODIFY_FIELDS
-  const auto *base = reinterpret_cast<const unsigned char *>(static_cast<const Dump *>(this));
-  for (const auto &f : dump_modify_fields) bytes.insert(bytes.end(), base + f.offset, base + f.offset + f.size);
-#endif
-  return bytes;
-}
 
 void DumpMesh::check_file_name(MeshArgs &a) const
 {
@@ -129,15 +118,7 @@ bool DumpMesh::vtk_keyword(MeshArgs &a, const std::string &w)
 
 void DumpMesh::init_style()
 {
-#ifdef DEMBRIDGE_DUMP_MODIFY_FIELDS
-  const std::vector<unsigned char> now = modify_fields();
-  std::size_t at = 0;
-  for (const auto &f : dump_modify_fields) {
-    if (std::memcmp(now.data() + at, modify_fields_at_creation_.data() + at, f.size) != 0)
-      unsupported_modify_keyword(f.keyword);
-    at += f.size;
-  }
-#endif
+  if (const char *k = changed_dump_modify_keyword(this, modify_fields_at_creation_)) unsupported_modify_keyword(k);
   check_mesh_ids(lmp, out_);
 }
 
@@ -145,5 +126,8 @@ void DumpMesh::write() { write_mesh_frame(lmp, out_); }
 
 static RegisterStyle reg_dump_mesh_stl("dump", "mesh/stl", "LIGGGHTS dump mesh/stl (ASCII STL per frame)", create_fix<DumpMesh>);
 static RegisterStyle reg_dump_mesh_vtk("dump", "mesh/vtk", "LIGGGHTS dump mesh/vtk (legacy VTK per frame)", create_fix<DumpMesh>);
+// LIGGGHTS 3.8's other names of the same two dumps.
+static RegisterStyle reg_dump_mesh_gran_vtk("dump", "mesh/gran/VTK", "LIGGGHTS dump mesh/gran/VTK (= mesh/vtk)", create_fix<DumpMesh>);
+static RegisterStyle reg_dump_stl("dump", "stl", "LIGGGHTS dump stl (= mesh/stl)", create_fix<DumpMesh>);
 
 }  // namespace dembridge

@@ -35,8 +35,7 @@ class DumpMesh : public LAMMPS_NS::Dump {
   bool stl_keyword(MeshArgs &a, const std::string &w);
   bool vtk_keyword(MeshArgs &a, const std::string &w);
   void check_file_name(MeshArgs &a) const;
-  std::vector<unsigned char> modify_fields_at_creation_;  // the fields dump_modify_fields name
-  std::vector<unsigned char> modify_fields() const;
+  std::vector<unsigned char> modify_fields_at_creation_;  // dump_modify_snapshot() at creation
   [[noreturn]] void unsupported_modify_keyword(const std::string &keyword);
 };
 

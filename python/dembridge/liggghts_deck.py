@@ -1,0 +1,180 @@
+"""LIGGGHTS 3.8 deck -> LAMMPS deck: the few rewrites inside LAMMPS's own commands.
+
+Everything a plugin can provide (``communicate``, ``fix particletemplate/sphere``, ``dump custom/vtk``,
+...) is a style of the plugin and stays as written. What no plugin can change is the syntax of
+LAMMPS's built-in commands; those lines are rewritten here, each rule reported once:
+
+* ``atom_style granular`` -> ``atom_style sphere`` (also inside ``atom_style hybrid``);
+* ``dump_modify ID ... format "..."`` -> ``format line "..."``;
+* ``compute_modify ID ... dynamic yes`` -> ``dynamic/dof yes``, ``extra N`` -> ``extra/dof N``;
+* ``set ... property/atom NAME V`` -> ``set ... d_NAME V`` (a vector property: ``d2_NAME[k] Vk``).
+
+``include FILE`` and ``jump FILE`` with a literal file name are translated the same way (the line
+then names the translated copy); a file name holding a variable runs untranslated, and says so.
+Lines keep their numbers and comments, so ``jump ... label`` and error messages still match.
+"""
+import dataclasses
+import os
+import re
+
+RULES = {
+    # no quotes in these texts: LAMMPS's print parses its text once more
+    "atom_style": "atom_style granular -> atom_style sphere (the same atom style in LAMMPS)",
+    "format": "dump_modify ... format STRING -> format line STRING (LAMMPS takes line, int or float first)",
+    "dynamic": "compute_modify ... dynamic -> dynamic/dof (the LAMMPS keyword)",
+    "extra": "compute_modify ... extra -> extra/dof (the LAMMPS keyword)",
+    "property/atom": "set ... property/atom NAME V -> set ... d_NAME V (a LIGGGHTS per-atom property "
+                     "is the LAMMPS custom property d_NAME)",
+    "include": "included files are translated too: the line names the translated copy",
+    "variable_file": "a file name holding a variable is read as it is, without translation",
+}
+
+_NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+
+
+@dataclasses.dataclass
+class Rewrite:
+    rule: str      # key of RULES
+    file: str
+    line: int      # 1-based line of the command's first line
+
+
+def split_words(text):
+    """LAMMPS's word split: whitespace outside quotes; "...", '...' and triple quotes kept whole
+    (quotes included). Returns (words, comment) where comment is the text from an unquoted '#'."""
+    words, i, n = [], 0, len(text)
+    while i < n:
+        c = text[i]
+        if c.isspace():
+            i += 1
+            continue
+        if c == "#":
+            return words, text[i:]
+        start = i
+        while i < n and not text[i].isspace():
+            if text.startswith('"""', i):
+                end = text.find('"""', i + 3)
+                i = n if end < 0 else end + 3
+            elif text[i] in "\"'":
+                end = text.find(text[i], i + 1)
+                i = n if end < 0 else end + 1
+            else:
+                i += 1
+        words.append(text[start:i])
+    return words, ""
+
+
+def _is_value(word):
+    return bool(_NUMBER.match(word)) or word.startswith("v_") or word.startswith("$")
+
+
+def rewrite_words(words):
+    """The rewritten words of one command and the rules applied (empty: unchanged)."""
+    if not words:
+        return words, []
+    cmd, out, rules = words[0], list(words), []
+    if cmd == "atom_style" and "granular" in out[1:]:
+        out = [cmd] + ["sphere" if w == "granular" else w for w in out[1:]]
+        rules.append("atom_style")
+    elif cmd == "dump_modify":
+        k = 2
+        while k < len(out):
+            if out[k] == "format" and k + 1 < len(out) and out[k + 1] not in ("line", "int", "float", "none") \
+                    and not out[k + 1].isdigit():
+                out.insert(k + 1, "line")
+                rules.append("format")
+                k += 3
+            else:
+                k += 1
+    elif cmd == "compute_modify":
+        for k in range(2, len(out)):
+            if out[k] in ("dynamic", "extra") and k + 1 < len(out):
+                rules.append(out[k])
+                out[k] += "/dof"
+    elif cmd == "set" and "property/atom" in out:
+        k = out.index("property/atom")
+        if k + 2 < len(out):
+            name, vals, j = out[k + 1], [], k + 2
+            while j < len(out) and _is_value(out[j]):
+                vals.append(out[j])
+                j += 1
+            if vals:
+                repl = [f"d_{name}", vals[0]] if len(vals) == 1 else \
+                    [w for i, v in enumerate(vals) for w in (f"d2_{name}[{i + 1}]", v)]
+                out = out[:k] + repl + out[j:]
+                rules.append("property/atom")
+    return out, rules
+
+
+def _file_word(words):
+    """The file argument of include / jump (None when the command reads no other file)."""
+    if not words:
+        return None
+    if words[0] == "include" and len(words) >= 2:
+        return 1
+    if words[0] == "jump" and len(words) >= 2 and words[1] != "SELF":
+        return 1
+    return None
+
+
+@dataclasses.dataclass
+class Translation:
+    text: str                 # the translated deck
+    rewrites: list            # every Rewrite applied, in order
+    children: dict            # absolute path of an included file -> Translation (only those that changed)
+
+
+def translate_text(text, name, notes=True, resolve=None, seen=None):
+    """Translate the deck ``text`` (``name`` is how messages call it). ``notes``: put a ``print`` of
+    each rule's first use before the line (for a run); else a comment (for a kept deck).
+    ``resolve(path, translation)`` returns the name the rewritten include line uses for a
+    translated child file. ``seen``: rules already reported (shared with the included files)."""
+    seen = set() if seen is None else seen
+    lines = text.split("\n")
+    out, rewrites, children = [], [], {}
+    k = 0
+    while k < len(lines):
+        first = k
+        logical = lines[k]
+        group = [lines[k]]
+        while logical.rstrip().endswith("&") and k + 1 < len(lines):
+            k += 1
+            logical = logical.rstrip()[:-1] + " " + lines[k]
+            group.append(lines[k])
+        k += 1
+        words, comment = split_words(logical)
+        new, rules = rewrite_words(words)
+        fw = _file_word(new)
+        if fw is not None:
+            path = new[fw].strip("\"'")
+            if "$" in path:
+                rules.append("variable_file")
+            elif os.path.isfile(path) and resolve is not None:
+                child = translate_file(path, notes=notes, resolve=resolve, seen=seen)
+                rewrites += child.rewrites
+                if child.rewrites or child.children:
+                    children[os.path.abspath(path)] = child
+                    new = list(new)
+                    new[fw] = resolve(path, child)
+                    rules.append("include")
+        if not rules:
+            out += group
+            continue
+        for r in rules:
+            rewrites.append(Rewrite(r, name, first + 1))
+        fresh = [r for r in dict.fromkeys(rules) if r not in seen]
+        seen.update(fresh)
+        for r in fresh:
+            msg = f"dembridge-liggghts: {name} line {first + 1}: {RULES[r]}".replace('"', "").replace("'", "")
+            out.append(f'print """{msg}"""' if notes else f"# {msg}")
+        changed = " ".join(new) if new != words else logical.rstrip()
+        out.append(changed + ((" " + comment) if comment else ""))
+        # keep the line count: a continued command leaves empty lines behind (labels keep their lines)
+        out += [""] * (len(group) - 1)
+    return Translation("\n".join(out), rewrites, children)
+
+
+def translate_file(path, notes=True, resolve=None, seen=None):
+    with open(path) as fh:
+        text = fh.read()
+    return translate_text(text, path, notes=notes, resolve=resolve, seen=seen)

@@ -7,7 +7,11 @@ LAMMPS's built-in commands; those lines are rewritten here, each rule reported o
 * ``atom_style granular`` -> ``atom_style sphere`` (also inside ``atom_style hybrid``);
 * ``dump_modify ID ... format "..."`` -> ``format line "..."``;
 * ``compute_modify ID ... dynamic yes`` -> ``dynamic/dof yes``, ``extra N`` -> ``extra/dof N``;
-* ``set ... property/atom NAME V`` -> ``set ... d_NAME V`` (a vector property: ``d2_NAME[k] Vk``).
+* ``set ... property/atom NAME V`` -> ``set ... d_NAME V`` (a vector property: ``d2_NAME[k] Vk``);
+* ``region``, ``create_atoms``, ``displace_atoms``, ``velocity`` without a ``units`` keyword get
+  ``units box``: LIGGGHTS's default, where LAMMPS's is ``units lattice``;
+* ``set ... diameter D`` (no ``density`` after it) keeps each atom's density, as LIGGGHTS does (LAMMPS
+  keeps the mass): the masses are scaled by (D/d)^3 first (a variable and a set ... mass before the line).
 
 ``include FILE`` and ``jump FILE`` with a literal file name are translated the same way (the line
 then names the translated copy); a file name holding a variable runs untranslated, and says so.
@@ -25,10 +29,15 @@ RULES = {
     "extra": "compute_modify ... extra -> extra/dof (the LAMMPS keyword)",
     "property/atom": "set ... property/atom NAME V -> set ... d_NAME V (a LIGGGHTS per-atom property "
                      "is the LAMMPS custom property d_NAME)",
+    "units": "region, create_atoms, displace_atoms and velocity take units box by default in LIGGGHTS and "
+             "units lattice in LAMMPS: units box added where the command gives none",
+    "diameter": "set ... diameter keeps the density in LIGGGHTS and the mass in LAMMPS: each atom's mass is "
+                "scaled by (D/d)^3 before, which keeps its density",
     "include": "included files are translated too: the line names the translated copy",
     "variable_file": "a file name holding a variable is read as it is, without translation",
 }
 
+_UNITS_BOX = ("region", "create_atoms", "displace_atoms", "velocity")
 _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
 
@@ -73,6 +82,10 @@ def rewrite_words(words):
     if not words:
         return words, []
     cmd, out, rules = words[0], list(words), []
+    if cmd in _UNITS_BOX and "units" not in out and not (cmd == "region" and out[-1:] == ["delete"]) \
+            and len(out) > 2:
+        out.append("units box")
+        rules.append("units")
     if cmd == "atom_style" and "granular" in out[1:]:
         out = [cmd] + ["sphere" if w == "granular" else w for w in out[1:]]
         rules.append("atom_style")
@@ -104,6 +117,21 @@ def rewrite_words(words):
                 out = out[:k] + repl + out[j:]
                 rules.append("property/atom")
     return out, rules
+
+
+def keep_density(words):
+    """The commands before and after ``set ... diameter D`` that keep each atom's density, as LIGGGHTS
+    does: the mass is scaled by (D/d)^3 first, while the old diameter d is still there (None when not
+    needed: no diameter, or a density after it)."""
+    if not words or words[0] != "set" or "diameter" not in words:
+        return None
+    k = words.index("diameter")
+    if k + 1 >= len(words) or "density" in words[k:]:
+        return None
+    d = words[k + 1]
+    target = " ".join(words[1:3])
+    return ([f"variable dembridge_mass atom mass*({d}/(2.0*radius))^3", f"set {target} mass v_dembridge_mass"],
+            ["variable dembridge_mass delete"])
 
 
 def _file_word(words):
@@ -157,6 +185,9 @@ def translate_text(text, name, notes=True, resolve=None, seen=None):
                     new = list(new)
                     new[fw] = resolve(path, child)
                     rules.append("include")
+        around = keep_density(new)
+        if around:
+            rules.append("diameter")
         if not rules:
             out += group
             continue
@@ -168,7 +199,11 @@ def translate_text(text, name, notes=True, resolve=None, seen=None):
             msg = f"dembridge-liggghts: {name} line {first + 1}: {RULES[r]}".replace('"', "").replace("'", "")
             out.append(f'print """{msg}"""' if notes else f"# {msg}")
         changed = " ".join(new) if new != words else logical.rstrip()
+        if around:
+            out += around[0]
         out.append(changed + ((" " + comment) if comment else ""))
+        if around:
+            out += around[1]
         # keep the line count: a continued command leaves empty lines behind (labels keep their lines)
         out += [""] * (len(group) - 1)
     return Translation("\n".join(out), rewrites, children)

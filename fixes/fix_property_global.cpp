@@ -13,6 +13,7 @@ namespace dembridge {
 
 FixPropertyGlobal::FixPropertyGlobal(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
 {
+  register_dump_styles(lmp);  // dump custom/vtk etc. in this LAMMPS instance (style_registry.h)
   const std::string prefix = std::string("Fix property/global (id ") + id + "): ";
   try {
     prop_ = property::GlobalProperty::parse(std::vector<std::string>(arg + 3, arg + narg));

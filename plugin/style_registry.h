@@ -29,7 +29,8 @@ std::vector<StyleEntry> &style_registry();
 // The plugin loader of LAMMPS 22 Jul 2025 skips dump styles ("not yet implemented") and does not
 // remember them for the next LAMMPS instance of the process or for `clear`: the dump styles are
 // entered into Output's public style map here, by lammpsplugin_init and again by every fix
-// mesh/surface (a mesh dump line always follows one). `plugin unload` does not know them; the plugin
+// mesh/surface (a mesh dump line always follows one), fix property/global and command communicate (one
+// of them comes before the dump lines of every LIGGGHTS deck). `plugin unload` does not know them; the plugin
 // is linked -z nodelete so that they stay valid after every other style was unloaded (CMakeLists.txt).
 void register_dump_styles(LAMMPS_NS::LAMMPS *lmp);
 

@@ -21,6 +21,7 @@ class CommandCommunicate : public Command {
   explicit CommandCommunicate(LAMMPS *lmp) : Command(lmp) {}
   void command(int narg, char **arg) override
   {
+    register_dump_styles(lmp);  // dump custom/vtk etc. in this LAMMPS instance (style_registry.h)
     if (narg < 1)
       error->all(FLERR, "communicate: expected a style, 'single' or 'multi' (communicate single vel yes)");
     const std::string style = arg[0];

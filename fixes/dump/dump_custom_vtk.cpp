@@ -95,7 +95,7 @@ void DumpCustomVTK::parse_attributes(int narg, char **arg)
     for (const Attribute &c : kAttributes)
       if (w == c.name) a = &c;
     Field f;
-    f.name = w;
+    f.name = f.word = w;
     if (a) {
       f.key = a->key;
       f.integer = a->integer;
@@ -137,7 +137,7 @@ void DumpCustomVTK::parse_attributes(int narg, char **arg)
 
 void DumpCustomVTK::check_source(const Field &f) const
 {
-  const std::string what = "attribute '" + f.name + "'";
+  const std::string what = "attribute '" + f.word + "'";
   if (f.source == 3) {
     const int ivar = input->variable->find(f.id.c_str());
     if (ivar < 0) fail(what, "no variable named '" + f.id + "'");
@@ -200,7 +200,7 @@ void DumpCustomVTK::init_style()
       for (int d = 0; d < output->ndump; ++d)
         if (output->dump[d] == this) every = output->every_dump[d];
       if (every > 0 && fixes_[k]->peratom_freq > 0 && every % fixes_[k]->peratom_freq)
-        fail("attribute '" + f.name + "'", "fix '" + f.id + "' is not computed at the dump's steps");
+        fail("attribute '" + f.word + "'", "fix '" + f.id + "' is not computed at the dump's steps");
     }
     if (f.source == 3) variables_[k] = input->variable->find(f.id.c_str());
   }

@@ -29,7 +29,8 @@ class DumpCustomVTK : public LAMMPS_NS::Dump {
   // One output array: its LIGGGHTS order key, name, width and where its values come from.
   struct Field {
     int key = 0;
-    std::string name;
+    std::string name;       // the array's name in the file
+    std::string word;       // the attribute as the dump line wrote it (for errors)
     int components = 1;
     bool integer = false;
     std::vector<int> what;  // per component: an atom quantity, or the source index for c_/f_/v_

@@ -66,13 +66,13 @@ def _unique_name(folder, path, used):
     return os.path.join(folder, name)
 
 
-def _writer(folder, header=None):
+def _writer(folder):
     """A resolve() for translate_text that writes each translated included file into folder."""
     used = set()
 
     def resolve(path, translation):
         target = _unique_name(folder, path, used)
-        _write(target, translation.text, header and header + path)
+        _write(target, translation.text)
         return target
     return resolve
 
@@ -92,14 +92,12 @@ def _write(path, text, header=None):
 def translate(deck, out):
     """--translate: write the LAMMPS deck (and translated included files beside it); return 0."""
     folder = os.path.dirname(os.path.abspath(out))
-    stem = os.path.basename(out)
-    resolve_base = _writer(folder, HEADER)
+    used = set()
 
-    def resolve(path, translation):  # included files become OUT.<name> beside OUT
-        target = resolve_base(path, translation)
-        final = os.path.join(folder, f"{stem}.{os.path.basename(target)}")
-        os.replace(target, final)
-        return os.path.relpath(final)
+    def resolve(path, translation):  # an included file becomes OUT.<its name> beside OUT
+        target = _unique_name(folder, f"{os.path.basename(out)}.{os.path.basename(path)}", used)
+        _write(target, translation.text, HEADER + path)
+        return os.path.relpath(target)
     source = deck or "standard input"
     t = translate_file(deck, notes=False, resolve=resolve) if deck else \
         translate_text(sys.stdin.read(), source, notes=False, resolve=resolve)

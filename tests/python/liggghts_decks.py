@@ -47,12 +47,15 @@ def run_liggghts(deck, where):
     return run(["stdbuf", "-o0", str(liggghts_exe()), "-in", deck], copy_deck(deck, where), env=_clean_env())
 
 
+def launcher_env():
+    return dict(os.environ, PYTHONPATH=str(ROOT / "python"))
+
+
 def run_launcher(deck, where, nprocs=1, args=()):
     cmd = LAUNCHER + ["-in", deck] + list(args)
     if nprocs > 1:
         cmd = [mpiexec(), "-n", str(nprocs)] + cmd
-    env = dict(os.environ, PYTHONPATH=str(ROOT / "python"))
-    return run(cmd, copy_deck(deck, where), env=env)
+    return run(cmd, copy_deck(deck, where), env=launcher_env())
 
 
 def errors(text):

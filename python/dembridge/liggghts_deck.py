@@ -4,7 +4,8 @@ Everything a plugin can provide (``communicate``, ``fix particletemplate/sphere`
 ...) is a style of the plugin and stays as written. What no plugin can change is the syntax of
 LAMMPS's built-in commands; those lines are rewritten here, each rule reported once:
 
-* ``atom_style granular`` -> ``atom_style sphere`` (also inside ``atom_style hybrid``);
+* ``atom_style granular`` -> ``atom_style sphere 1`` (radii may change, as with granular; also inside
+  ``atom_style hybrid``);
 * ``dump_modify ID ... format "..."`` -> ``format line "..."``;
 * ``compute_modify ID ... dynamic yes`` -> ``dynamic/dof yes``, ``extra N`` -> ``extra/dof N``;
 * ``set ... property/atom NAME V`` -> ``set ... d_NAME V`` (a vector property: ``d2_NAME[k] Vk``);
@@ -23,7 +24,7 @@ import re
 
 RULES = {
     # no quotes in these texts: LAMMPS's print parses its text once more
-    "atom_style": "atom_style granular -> atom_style sphere (the same atom style in LAMMPS)",
+    "atom_style": "atom_style granular -> atom_style sphere 1 (the same atom style in LAMMPS, radii may change)",
     "format": "dump_modify ... format STRING -> format line STRING (LAMMPS takes line, int or float first)",
     "dynamic": "compute_modify ... dynamic -> dynamic/dof (the LAMMPS keyword)",
     "extra": "compute_modify ... extra -> extra/dof (the LAMMPS keyword)",
@@ -87,7 +88,8 @@ def rewrite_words(words):
         out.append("units box")
         rules.append("units")
     if cmd == "atom_style" and "granular" in out[1:]:
-        out = [cmd] + ["sphere" if w == "granular" else w for w in out[1:]]
+        # 'sphere 1': radii may change (fix adapt), as they may with LIGGGHTS's granular
+        out = [cmd] + [w2 for w in out[1:] for w2 in (["sphere", "1"] if w == "granular" else [w])]
         rules.append("atom_style")
     elif cmd == "dump_modify":
         k = 2

@@ -19,35 +19,18 @@ from liggghts_decks import LAUNCHER, copy_deck, errors, launcher_env, run, run_l
 from vtk_reader import read_legacy
 
 # deck -> the error texts of the commands it needs that are not in the plugin yet
+STREAM = ["Unrecognized fix style 'insert/stream'"]
 PENDING = {
-    "in.packing_like": ["Unrecognized fix style 'particletemplate/sphere'",
-                        "Unrecognized fix style 'particledistribution/discrete'",
-                        "Unrecognized fix style 'insert/pack'"],
-    "in.chute_wear_like": ["only 'wear off' is supported", "Unrecognized fix style 'particletemplate/sphere'",
-                           "Unrecognized fix style 'particledistribution/discrete'",
-                           "Unrecognized fix style 'insert/stream'", "keyword 'wear': not supported"],
-    "in.conveyor_like": ["Unrecognized fix style 'particletemplate/sphere'",
-                         "Unrecognized fix style 'particledistribution/discrete'",
-                         "Unrecognized fix style 'insert/stream'",
-],
-    "in.moving_mesh_like": ["Unrecognized fix style 'particletemplate/sphere'",
-                            "Unrecognized fix style 'particledistribution/discrete'",
-                            "Unrecognized fix style 'insert/pack'"],
-    "in.mesh_gran_like": ["Unrecognized fix style 'particletemplate/sphere'",
-                          "Unrecognized fix style 'particledistribution/discrete'",
-                          "Unrecognized fix style 'insert/stream'",
- ],
-    "in.insert_stream_like": ["Unrecognized fix style 'particletemplate/sphere'",
-                              "Unrecognized fix style 'particledistribution/discrete'",
-                              "Unrecognized fix style 'insert/stream'"],
-    "in.heat_like": ["Unrecognized fix style 'particletemplate/sphere'",
-                     "Unrecognized fix style 'particledistribution/discrete'",
-                     "Unrecognized fix style 'insert/pack'"],
-    "in.cohesion_like": ["Unrecognized fix style 'particletemplate/sphere'",
-                         "Unrecognized fix style 'particledistribution/discrete'",
-                         "Unrecognized fix style 'insert/pack'"],
+    # LAMMPS's fix adapt takes equal-style variables only; LIGGGHTS's takes an atom-style diameter
+    "in.packing_like": ["Variable dgrown for fix adapt is invalid style"],
+    "in.chute_wear_like": STREAM,
+    "in.conveyor_like": STREAM,
+    "in.mesh_gran_like": STREAM,
+    "in.insert_stream_like": STREAM,
 }
-DECKS = list(PENDING)  # in.launcher_rewrites: the same checks on the runs of the rewrites_runs fixture
+# deck -> the error texts of the commands it needs that are not in the plugin yet (above); these run now:
+PASSING = ["in.moving_mesh_like", "in.heat_like", "in.cohesion_like"]
+DECKS = list(PENDING) + PASSING  # in.launcher_rewrites: the same checks on the runs of the rewrites_runs fixture
 
 
 class MissingCommand(Exception):
@@ -217,7 +200,7 @@ def test_translate_writes_a_lammps_deck_that_plain_lmp_runs_the_same(rewrites_ru
     assert rc == 0, out
     assert not list((where / "post").iterdir())  # --translate does not run
     deck = (where / "in.lammps").read_text()
-    assert "atom_style\tgranular" not in deck and "atom_style sphere" in deck
+    assert "atom_style\tgranular" not in deck and "atom_style sphere 1" in deck
     assert "include in.lammps.inc.output_liggghts" in deck  # the included file, translated beside it
     assert 'format line "%d %d' in (where / "in.lammps.inc.output_liggghts").read_text()
     rc, out = run([lmp_executable(), "-in", "in.lammps"], where, env=_plugin_env(os.environ))
@@ -233,8 +216,8 @@ def test_translate_writes_a_lammps_deck_that_plain_lmp_runs_the_same(rewrites_ru
 
 
 @pytest.mark.parametrize("words, expected", [
-    ("atom_style granular", "atom_style sphere"),
-    ("atom_style hybrid granular ellipsoid", "atom_style hybrid sphere ellipsoid"),
+    ("atom_style granular", "atom_style sphere 1"),
+    ("atom_style hybrid granular ellipsoid", "atom_style hybrid sphere 1 ellipsoid"),
     ("atom_style sphere", None),
     ('dump_modify d format "%d %g" sort id', 'dump_modify d format line "%d %g" sort id'),
     ('dump_modify d format line "%d %g"', None),

@@ -1,6 +1,7 @@
 """dump mesh/stl and dump mesh/vtk (LIGGGHTS's mesh output lines as LAMMPS dump styles) in-process:
 which meshes a line writes, the '*' in file names, that they write what fix mesh/dump writes (one
 writer), and bad input. The comparison with LIGGGHTS 3.8 itself is tests/oracle/test_mesh_dump_oracle.py."""
+import math
 import os
 import struct
 import subprocess
@@ -42,6 +43,13 @@ def test_vtk_without_star_keeps_the_last_frame_and_stl_equals_fix_mesh_dump(tmp_
                                 f"fix f all mesh/dump 5 stl {tmp_path}/fix*.stl pad", "run 10"]).close()
     assert (tmp_path / "dump10.stl").read_text() == (tmp_path / "fix10.stl").read_text()
     nodes_10 = read_stl_nodes(tmp_path / "dump10.stl")
+    # and what it writes is the moved paddle: the input file's nodes shifted by `move`, turned by the
+    # closed-form angle 2 pi t / period about the x axis through (0, 0, 0.036) after 10 steps of 1e-6 s
+    th = 2 * math.pi * 10e-6 / 0.004
+    expected = [(x, 0.0 + math.cos(th) * y - math.sin(th) * (z + 0.03 - 0.036),
+                 0.036 + math.sin(th) * y + math.cos(th) * (z + 0.03 - 0.036)) for x, y, z in read_stl_nodes(PADDLE)]
+    assert len(nodes_10) == len(expected) == 6
+    assert max(abs(a - b) for p, q in zip(nodes_10, expected) for a, b in zip(p, q)) < 1e-15
     text = (tmp_path / "one.vtk").read_text().split()
     i = text.index("POINTS")
     assert [float(c) for c in text[i + 3:i + 3 + 18]] == [c for p in nodes_10 for c in p]

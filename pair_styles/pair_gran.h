@@ -32,6 +32,10 @@ class PairGran : public LAMMPS_NS::Pair {
   double init_one(int i, int j) override;
   void init_list(int id, LAMMPS_NS::NeighList *ptr) override;
   void write_restart(FILE *fp) override;
+  // pair_modify timestep_check yes|no|F (pair_gran_timestep.cpp): an opt-in WARNING at run setup when dt
+  // exceeds F times the Rayleigh or Hertz time of fix check/timestep/gran; other keywords go to LAMMPS.
+  void modify_params(int narg, char **arg) override;
+  void setup() override;
   int pack_forward_comm(int n, int *list, double *buf, int pbc_flag, int *pbc) override;
   void unpack_forward_comm(int n, int first, double *buf) override;
   void read_restart(FILE *fp) override;
@@ -81,6 +85,7 @@ class PairGran : public LAMMPS_NS::Pair {
   std::map<std::string, property::GlobalProperty> restart_properties_;
 
   const property::GlobalProperty *find_property(const std::string &name);
+  double timestep_check_ = 0.0;  // pair_modify timestep_check: the fraction, 0 = off (default)
   std::string history_id_;  // ID of this style's history fix (empty: none yet)
   void reserve_history_place();
   std::string free_history_id() const;

@@ -20,43 +20,48 @@ OverlapGrid::OverlapGrid(const double *lo, const double *hi, double cell)
     n_[d] = std::max(1, static_cast<int>(std::floor((hi[d] - lo[d]) / edge)));
     inv_[d] = n_[d] / std::max(hi[d] - lo[d], 1e-300);
   }
-  head_.assign(static_cast<size_t>(n_[0]) * n_[1] * n_[2], -1);
+  stride_[0] = 1;
+  stride_[1] = n_[0] + 2;
+  stride_[2] = (n_[0] + 2) * (n_[1] + 2);
+  int k = 0;
+  stencil_[k++] = 0;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if (dx || dy || dz) stencil_[k++] = dz * stride_[2] + dy * stride_[1] + dx;
+  head_.assign(static_cast<size_t>(n_[0] + 2) * (n_[1] + 2) * (n_[2] + 2), -1);
 }
 
-int OverlapGrid::cell_of(const double *x, int *c) const
+int OverlapGrid::cell_of(const double *x) const
 {
+  int cell = 0;
   for (int d = 0; d < 3; ++d) {
     const double t = (x[d] - lo_[d]) * inv_[d];
-    c[d] = t < 0.0 ? 0 : (t >= n_[d] ? n_[d] - 1 : static_cast<int>(t));
+    const int c = t < 0.0 ? 0 : (t >= n_[d] ? n_[d] - 1 : static_cast<int>(t));
+    cell += (c + 1) * stride_[d];
   }
-  return (c[2] * n_[1] + c[1]) * n_[0] + c[0];
+  return cell;
 }
 
 void OverlapGrid::add(const double *x, double r)
 {
-  int c[3];
-  const int cell = cell_of(x, c);
-  const int id = static_cast<int>(r_.size());
-  x_.insert(x_.end(), x, x + 3);
-  r_.push_back(r);
+  const int cell = cell_of(x);
+  s_.push_back({x[0], x[1], x[2], r});
   next_.push_back(head_[cell]);
-  head_[cell] = id;
+  head_[cell] = static_cast<int>(s_.size()) - 1;
 }
 
 bool OverlapGrid::overlaps(const double *x, double r) const
 {
-  int c[3];
-  cell_of(x, c);
-  for (int k = std::max(0, c[2] - 1); k <= std::min(n_[2] - 1, c[2] + 1); ++k)
-    for (int j = std::max(0, c[1] - 1); j <= std::min(n_[1] - 1, c[1] + 1); ++j)
-      for (int i = std::max(0, c[0] - 1); i <= std::min(n_[0] - 1, c[0] + 1); ++i)
-        for (int p = head_[(k * n_[1] + j) * n_[0] + i]; p >= 0; p = next_[p]) {
-          const double *q = &x_[3 * p];
-          const double dx = x[0] - q[0], dy = x[1] - q[1], dz = x[2] - q[2];
-          const double rsq = dx * dx + dy * dy + dz * dz;
-          const double radsum = r + r_[p];
-          if (rsq <= radsum * radsum) return true;
-        }
+  const int cell = cell_of(x);
+  for (int k = 0; k < 27; ++k)
+    for (int p = head_[cell + stencil_[k]]; p >= 0; p = next_[p]) {
+      const Sphere &q = s_[p];
+      const double dx = x[0] - q.x, dy = x[1] - q.y, dz = x[2] - q.z;
+      const double rsq = dx * dx + dy * dy + dz * dz;
+      const double radsum = r + q.r;
+      if (rsq <= radsum * radsum) return true;
+    }
   return false;
 }
 

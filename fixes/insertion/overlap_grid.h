@@ -13,14 +13,20 @@ class OverlapGrid {
   OverlapGrid(const double *lo, const double *hi, double cell);
   void add(const double *x, double r);
   bool overlaps(const double *x, double r) const;
-  int size() const { return static_cast<int>(r_.size()); }
+  int size() const { return static_cast<int>(s_.size()); }
 
  private:
-  int cell_of(const double *x, int *c) const;
+  // cell index in the padded grid (one empty layer of cells around, so the 27 neighbours of any
+  // cell exist); spheres outside [lo, hi] go to the outermost real cells
+  int cell_of(const double *x) const;
+  struct Sphere {
+    double x, y, z, r;
+  };
   double lo_[3], inv_[3];
-  int n_[3];
+  int n_[3], stride_[3];
+  int stencil_[27];  // the candidate's own cell first: an overlap there is the most likely
   std::vector<int> head_, next_;
-  std::vector<double> x_, r_;
+  std::vector<Sphere> s_;
 };
 
 }  // namespace dembridge::insertion

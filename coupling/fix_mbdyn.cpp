@@ -14,6 +14,7 @@
 #include "update.h"
 #include "utils.h"
 
+#include "file_session.h"
 #include "peer_session.h"
 #include "protocol_error.h"
 #include "style_registry.h"
@@ -153,7 +154,7 @@ std::string num(double v)
 }
 
 const char *kKeywords =
-    "path, port, host, create, coupling, orientation, labels, sorted, accelerations, reference_node, "
+    "path, port, host, file, sleep, precision, create, coupling, orientation, labels, sorted, accelerations, reference_node, "
     "reference_forces, rotate_reference_forces, reference, node, "
     "substeps, mbdyn_dt, loads, predictor, startup_exchange, gravity, connect_timeout, io_timeout, tolerance, "
     "max_iterations, profile";
@@ -177,6 +178,16 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
     };
     if (kw == "path") {
       path = value("a socket file name");
+    } else if (kw == "file") {
+      file_ = std::make_unique<mb::FileOptions>();
+      file_->in_path = value("MBDyn's input file IN (the loads) and output file OUT (the kinematics)");
+      file_->out_path = value("MBDyn's output file OUT (the kinematics) after IN");
+    } else if (kw == "sleep") {
+      file_sleep_ = parse_double(kw, value("seconds"), prefix, error, "seconds (> 0)");
+      if (file_sleep_ <= 0) error->all(FLERR, prefix + "keyword 'sleep' expects seconds (> 0), got " + arg[i]);
+    } else if (kw == "precision") {
+      file_precision_ = static_cast<int>(parse_int(kw, value("digits"), prefix, error, "digits (1 to 17)", 1));
+      if (file_precision_ > 17) error->all(FLERR, prefix + "keyword 'precision' expects digits (1 to 17), got " + arg[i]);
     } else if (kw == "port") {
       port = parse_int(kw, value("a TCP port number"), prefix, error, "a TCP port number (1-65535)", 1);
       if (port > 65535) error->all(FLERR, prefix + "keyword 'port' expects a TCP port number (1-65535), got " + std::to_string(port));
@@ -288,8 +299,11 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
       error->all(FLERR, prefix + "unknown keyword '" + kw + "'; expected one of " + kKeywords);
     }
   }
-  if (path.empty() == (port < 0))
-    error->all(FLERR, prefix + "give exactly one socket: 'path FILE' (MBDyn `path`) or 'port N [host H]' (MBDyn `port`)");
+  if (path.empty() + (port < 0) + !file_ != 2)
+    error->all(FLERR, prefix + "give exactly one communicator: 'path FILE' (MBDyn `path`), 'port N [host H]' (MBDyn "
+                               "`port`) or 'file IN OUT' (MBDyn's file communicator)");
+  if (!file_ && (file_sleep_ > 0 || file_precision_ > 0))
+    error->all(FLERR, prefix + "'sleep' and 'precision' are for the file communicator ('file IN OUT')");
   if (nodes_.empty())
     error->all(FLERR, prefix + "no MBDyn point given: add one 'node atom ID' or 'node group GROUP-ID' per point of the "
                                "external structural element, in the element's order");
@@ -314,6 +328,16 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
                                "nothing the reference body feels would reach MBDyn");
   o.endpoint = path.empty() ? mb::Endpoint::tcp(host, static_cast<std::uint16_t>(port)) : mb::Endpoint::unix_path(path);
   tight_ = o.coupling == mb::Coupling::Tight;
+  if (file_) {
+    if (tight_) error->all(FLERR, prefix + "'file IN OUT' supports coupling loose only");
+    if (o.nodal.reference_node) error->all(FLERR, prefix + "'file IN OUT' does not support 'reference_node yes'");
+    if (file_->in_path == file_->out_path)
+      error->all(FLERR, prefix + "'file IN OUT': IN and OUT are the same file '" + file_->in_path + "'");
+    if (file_sleep_ > 0) file_->sleep_s = file_sleep_;
+    if (file_precision_ > 0) file_->precision = file_precision_;
+    file_->timeout_s = o.io_timeout_s;
+    file_->nodal = o.nodal;
+  }
   if (!startup_exchange_ && !tight_)
     error->all(FLERR, prefix + "'startup_exchange no' is for coupling tight (in loose MBDyn always exchanges at t0)");
   bcast_.resize(5 * sizeof(long long) + o.nodal.kinematics_payload_bytes());
@@ -508,7 +532,9 @@ void FixMBDyn::open_session()
   std::string err;
   if (comm->me == 0) {
     try {
-      if (listener_)
+      if (file_)
+        file_session_ = std::make_unique<mb::FileSession>(*file_);
+      else if (listener_)
         session_ = std::make_unique<mb::PeerSession>(mb::PeerSession::accept(*listener_, *options_));
       else
         session_ = std::make_unique<mb::PeerSession>(mb::PeerSession::open(*options_));
@@ -522,6 +548,7 @@ void FixMBDyn::open_session()
   if (len) {
     err.resize(len);
     MPI_Bcast(&err[0], len, MPI_CHAR, 0, world);
+    if (file_) fail_all("cannot couple to MBDyn over the files " + file_->in_path + " and " + file_->out_path + ": " + err);
     fail_all("cannot couple to MBDyn over " + options_->endpoint.describe() + " (" +
              (listener_ ? "create no: waiting for MBDyn to connect" : "create yes: connecting to MBDyn") +
              ", connect_timeout " + num(options_->connect_timeout_s) + " s, " +
@@ -539,15 +566,15 @@ FixMBDyn::Message FixMBDyn::receive_broadcast(const char *expecting)
   std::string err;
   if (comm->me == 0) {
     try {
-      const mb::Received r = session_->receive();
+      const mb::Received r = file_session_ ? file_session_->receive() : session_->receive();
       if (!r.is_kinematics()) {
         m.status = 1;
       } else {
-        m.command = static_cast<int>(session_->kinematics().command);
+        m.command = static_cast<int>(kinematics().command);
         m.step = static_cast<long long>(r.step);
         m.iteration = static_cast<int>(r.iteration);
         if (parallel) {  // the other ranks decode these bytes
-          const auto &raw = session_->raw_payload();
+          const auto &raw = file_session_ ? file_session_->raw_payload() : session_->raw_payload();
           std::memcpy(bcast_.data() + head_bytes, raw.data(), raw.size());
         }
       }
@@ -590,7 +617,8 @@ std::string FixMBDyn::slot_name(std::size_t k) const
 
 const mb::Kinematics &FixMBDyn::kinematics() const
 {
-  return comm->me == 0 ? session_->kinematics() : *kin_;
+  if (comm->me != 0) return *kin_;
+  return file_session_ ? file_session_->kinematics() : session_->kinematics();
 }
 
 void FixMBDyn::decode_to_global(std::vector<Pose> &out)
@@ -925,7 +953,8 @@ void FixMBDyn::send_answer(const std::vector<double> &loads6, bool converged, co
   std::string err;
   if (comm->me == 0) {
     try {
-      session_->send_loads(l, converged);
+      if (file_session_) file_session_->send_loads(l);
+      else session_->send_loads(l, converged);
     } catch (const std::exception &e) {
       err = e.what();
       if (err.empty()) err = "unknown error";

@@ -18,6 +18,8 @@
 
 namespace dembridge::mbdyn {
 class PeerSession;
+class FileSession;
+struct FileOptions;
 class SocketListener;
 struct SessionOptions;
 struct Kinematics;
@@ -114,7 +116,10 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   bool use_reference_forces_ = true;     // MBDyn `use reference node forces`
   bool rotate_reference_forces_ = true;  // MBDyn `rotate reference node forces`
   bool reference_forces_given_ = false;
-  bool sorted_ = true;  // MBDyn `sorted`: the answer is in the received order either way
+  bool sorted_ = true;
+  std::unique_ptr<mbdyn::FileOptions> file_;  // file IN OUT (MBDyn's file communicator), else a socket
+  double file_sleep_ = -1;                     // sleep S, if given
+  int file_precision_ = -1;                    // precision P, if given  // MBDyn `sorted`: the answer is in the received order either way
   std::unique_ptr<mbdyn::SessionOptions> options_;
   int substeps_ = 1;
   double mbdyn_dt_ = -1.0;
@@ -131,6 +136,7 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   // rank 0 only
   std::unique_ptr<mbdyn::SocketListener> listener_;
   std::unique_ptr<mbdyn::PeerSession> session_;
+  std::unique_ptr<mbdyn::FileSession> file_session_;  // file IN OUT: instead of session_
 
   // every rank
   std::vector<unsigned char> bcast_;         // header + raw payload, broadcast per message

@@ -1,0 +1,149 @@
+"""fix mbdyn over MBDyn's file communicator (`fix mbdyn file IN OUT`), driven by the OUT files the
+real MBDyn 1.7.3 wrote in a recorded spring-mass run (tests/data/mbdyn-ext/file_communicator:
+`"IN.dat", unlink, "OUT.dat", no clobber, ..., precision, 16`, `send after predict, no`, 25 steps):
+a player writes each recorded OUT as MBDyn does (OUT.dat.tmp renamed to OUT.dat, only once the
+previous OUT is gone: `no clobber`) and takes each IN the fix writes (then removes it: `unlink`).
+The split spring-mass deck (k = 50, c = 0.4 in LAMMPS, the recording peer's law) must answer the
+recorded IN files to <= 1e-12 of the largest force. Also: the fix never overwrites an IN it finds,
+times out naming the file, and every new keyword's bad value is an ERROR naming it."""
+import os
+import re
+import threading
+import time
+
+import pytest
+
+from dembridge import plugin_path
+from test_fix_mbdyn import error_line, run_lammps, spring_mass_deck
+
+pytestmark = pytest.mark.skipif(not os.path.exists(plugin_path()), reason="needs the plugin (build dembridgeplugin)")
+
+DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "mbdyn-ext", "file_communicator")
+
+
+def read_sequence(name="file_sequence.txt"):
+    """[(kind 'OUT' | 'IN', index, text)] in the recorded order."""
+    parts = re.split(r"^=== (OUT|IN)\.(\d+) ===\n", open(os.path.join(DATA, name)).read(), flags=re.M)
+    return [(parts[i], int(parts[i + 1]), parts[i + 2]) for i in range(1, len(parts), 3)]
+
+
+def numbers(text):
+    return [float(w) for l in text.splitlines() if l.strip() and not l.startswith("#") for w in l.split()]
+
+
+class RecordedMbdynFiles(threading.Thread):
+    """Plays MBDyn's side of the file communicator from the recorded OUT files."""
+
+    def __init__(self, folder, outs, timeout=60):
+        super().__init__(daemon=True)
+        self.folder, self.outs, self.timeout = folder, outs, timeout
+        self.ins, self.error = [], None
+        self.start()
+
+    def wait(self, ready, what):
+        t_end = time.monotonic() + self.timeout
+        while not ready():
+            if time.monotonic() > t_end:
+                raise TimeoutError(what)
+            time.sleep(0.001)
+
+    def run(self):
+        out, inp = os.path.join(self.folder, "OUT.dat"), os.path.join(self.folder, "IN.dat")
+        try:
+            for text in self.outs:
+                self.wait(lambda: not os.path.exists(out), "the fix never removed OUT.dat")  # no clobber
+                open(out + ".tmp", "w").write(text)
+                os.rename(out + ".tmp", out)
+                self.wait(lambda: os.path.exists(inp), "the fix never wrote IN.dat")
+                self.ins.append(open(inp).read())
+                os.unlink(inp)  # unlink
+        except Exception as e:  # reported by the test
+            self.error = repr(e)
+
+
+def file_deck(folder, steps, extra=""):
+    return spring_mass_deck("X", 0.004, 1, steps).replace(
+        "path X", f"file {folder}/IN.dat {folder}/OUT.dat sleep 0.002 precision 16").replace(
+        "connect_timeout 20 io_timeout 20", f"io_timeout 20 {extra}")
+
+
+@pytest.fixture
+def folder(tmp_path):
+    return str(tmp_path)
+
+
+def test_fix_mbdyn_answers_the_recorded_in_files(folder):
+    seq = read_sequence()
+    outs = [t for k, _, t in seq if k == "OUT"]
+    expected = [numbers(t) for k, _, t in seq if k == "IN"]
+    assert len(outs) == len(expected) == 27
+    player = RecordedMbdynFiles(folder, outs)
+    t0 = time.monotonic()
+    rc, out, _ = run_lammps(file_deck(folder, len(outs) - 1), folder, timeout=120)
+    player.join(60)
+    secs = time.monotonic() - t0
+    assert player.error is None, (player.error, out[-3000:])
+    assert rc == 0, out[-3000:]
+    got = [numbers(t) for t in player.ins]
+    assert [len(g) for g in got] == [3] * 27
+    scale = max(abs(v) for e in expected for v in e)
+    worst = max(abs(a - b) for g, e in zip(got, expected) for a, b in zip(g, e))
+    print(f"file communicator: {len(got)} IN files in {secs:.2f} s, worst deviation from the recorded IN "
+          f"{worst / scale:.1e} of the largest force {scale}")
+    assert worst <= 1e-12 * scale
+    assert not os.path.exists(os.path.join(folder, "IN.dat.tmp"))
+
+
+@pytest.mark.parametrize("name", ["IN.dat", "IN.dat.tmp"])
+def test_existing_in_file_is_refused_and_kept(folder, name):
+    path = os.path.join(folder, name)
+    open(path, "w").write("a user's file\n")
+    rc, out, _ = run_lammps(file_deck(folder, 2), folder, timeout=60)
+    assert rc != 0
+    assert f"{name} already exists" in error_line(out), error_line(out)
+    assert open(path).read() == "a user's file\n"
+
+
+def test_missing_out_file_times_out_naming_it(folder):
+    t0 = time.monotonic()
+    rc, out, _ = run_lammps(file_deck(folder, 2).replace("io_timeout 20", "io_timeout 0.3"), folder, timeout=60)
+    assert rc != 0
+    err = error_line(out)
+    assert "MBDyn wrote no " + os.path.join(folder, "OUT.dat") in err, err
+    assert time.monotonic() - t0 < 20
+
+
+BAD = {
+    "file_one_name": ("file {d}/IN.dat {d}/OUT.dat sleep 0.002 precision 16 node", "file {d}/IN.dat",
+                      ["keyword 'file' expects MBDyn's output file OUT", "but the command ends there"], True),
+    "file_and_path": ("io_timeout 20", "io_timeout 20 path x.sock", ["give exactly one communicator"], False),
+    "same_files": ("{d}/OUT.dat sleep", "{d}/IN.dat sleep", ["IN and OUT are the same file"], False),
+    "sleep_zero": ("sleep 0.002", "sleep 0", ["keyword 'sleep' expects seconds (> 0)", "0"], False),
+    "sleep_word": ("sleep 0.002", "sleep soon", ["keyword 'sleep' expects seconds (> 0)", "'soon'"], False),
+    "precision_big": ("precision 16", "precision 40", ["keyword 'precision' expects digits (1 to 17)", "40"], False),
+    "precision_word": ("precision 16", "precision high", ["keyword 'precision' expects digits (1 to 17)", "'high'"], False),
+    "file_tight": ("io_timeout 20", "io_timeout 20 coupling tight", ["'file IN OUT' supports coupling loose only"], False),
+    "file_refnode": ("io_timeout 20", "io_timeout 20 reference_node yes", ["'file IN OUT' does not support 'reference_node yes'"], False),
+    "sleep_without_file": ("file {d}/IN.dat {d}/OUT.dat sleep 0.002 precision 16", "path x.sock sleep 1",
+                           ["'sleep' and 'precision' are for the file communicator"], False),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_file_keywords_bad_input(case, folder):
+    old, new, expect, truncate = BAD[case]
+    old, new = old.format(d=folder), new.format(d=folder)
+    deck = file_deck(folder, 2)
+    assert old in deck
+    if truncate:  # the command ends right after the replacement
+        line = next(l for l in deck.splitlines() if l.startswith("fix M all mbdyn"))
+        deck = deck.replace(line, line[:line.index(old)] + new)
+    else:
+        deck = deck.replace(old, new, 1)
+    rc, out, secs = run_lammps(deck, folder, timeout=60)
+    err = error_line(out)
+    assert rc != 0
+    assert "Fix mbdyn (id M)" in err, out[-2000:]
+    for e in expect:
+        assert e in err, err
+    assert secs < 15

@@ -267,7 +267,9 @@ void FixInsertPack::pre_exchange()
 
 void *FixInsertPack::extract(const char *name, int &type)
 {
-  if (std::string(name) != "radius" || !dist_) return nullptr;
+  if (std::string(name) != "radius") return nullptr;
+  dist_ = FixParticleDistribution::find(lmp, k_.distribution);  // pair styles ask before this fix's init
+  if (!dist_) return nullptr;
   extract_radius_ = 0.0;
   for (const auto &t : dist_->distribution().templates())
     if (t.type == type) extract_radius_ = std::max(extract_radius_, t.radius);

@@ -267,7 +267,10 @@ void FixMeshSurface::build_candidates()
 
 void FixMeshSurface::setup_pre_force(int)
 {
-  if (moving()) mesh_->zero_velocity();  // step 0: the mesh has not moved (spec §7.2)
+  // A mesh starts at rest. A later run keeps the node velocities of the last step, as LIGGGHTS 3.8
+  // does (its setup only creates the velocity property once); a mesh whose movers were all unfixed
+  // is at rest again (LIGGGHTS zeroes the velocities on unfix). A conveyor keeps its own.
+  if (moving() ? !mesh_->has_velocity() : !conveyor_ && mesh_->has_velocity()) mesh_->zero_velocity();
   zero_totals();
   rebuilt_this_step_ = false;
 }

@@ -91,3 +91,14 @@ def test_restart_equals_split_run_bitwise(bed):
     assert np.array_equal(ca, cb), "wall contacts, their history or the mesh pose differ after restart"
     fa, fb = _contacts(bed / "split.dump.floor"), _contacts(bed / "second.dump.floor")
     assert len(fa) > 500 and np.array_equal(fa, fb), "floor contacts or their history differ after restart"
+
+
+def test_run_pre_no_equals_one_run_bitwise(bed):
+    _lmp(bed, stage="full", steps=400, out="full400.dump")
+    _lmp(bed, stage="continuous", steps=400, out="continuous400.dump")
+    a, b = _atoms(bed / "full400.dump"), _atoms(bed / "continuous400.dump")
+    assert len(a) == 1968 and np.array_equal(a, b), "run 200 + run 200 pre no differs from run 400"
+    ca, cb = _contacts(bed / "full400.dump.walls"), _contacts(bed / "continuous400.dump.walls")
+    assert (ca[:, 1] == 1).sum() > 10 and np.array_equal(ca, cb), "paddle contacts differ"
+    fa, fb = _contacts(bed / "full400.dump.floor"), _contacts(bed / "continuous400.dump.floor")
+    assert len(fa) > 500 and np.array_equal(fa, fb), "floor contacts differ"

@@ -119,6 +119,7 @@ void FixWallGran::touch(int i, const gran::WallTouch &w, int wall_type, double *
                         double *fpw)
 {
   double **f = atom->f, **torque = atom->torque;
+  if (walls::normal_undefined(w.delta, atom->radius[i])) undefined_normal(i, mesh, element);
   const gran::SphereView a{atom->x[i], atom->v[i], atom->omega[i], atom->radius[i], atom->rmass[i]};
   gran::ContactResult res;
   const double meff = (rigid_body_ && rigid_body_[i] >= 0) ? rigid_mass_[rigid_body_[i]] : atom->rmass[i];
@@ -139,6 +140,18 @@ void FixWallGran::touch(int i, const gran::WallTouch &w, int wall_type, double *
     }
     contact_rows_.push_back(r);
   }
+}
+
+// The sphere's centre lies on the wall: no contact normal. Name the fix, the atom and the wall.
+void FixWallGran::undefined_normal(int i, int mesh, int element)
+{
+  const double *x = atom->x[i];
+  const std::string wall = mesh < 0 ? "the " + spec_.primitive.describe()
+                                    : "triangle " + std::to_string(element + 1) + " (file order) of mesh " + spec_.mesh_ids[mesh];
+  fail_on_this_rank(lmp, FLERR, cmd_ + ": atom " + std::to_string(atom->tag[i]) + " at (" +
+                                    fmt::format("{:.17g} {:.17g} {:.17g}", x[0], x[1], x[2]) + ") has its centre on " + wall +
+                                    " (closer than 1e-12 of its radius): the contact normal is undefined (LIGGGHTS 3.8 computes NaN "
+                                    "forces here); move the atom off the wall");
 }
 
 void FixWallGran::primitive_pass(bool update_history)

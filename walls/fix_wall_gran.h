@@ -62,6 +62,7 @@ class FixWallGran : public state::PerAtomRecordsFix {
   void check_wall_type(int type, const char *what);
   void primitive_pass(bool update);
   void mesh_pass(bool update);
+  [[noreturn]] void undefined_normal(int i, int mesh, int element);
   void touch(int i, const gran::WallTouch &w, int wall_type, double *hist, bool update, int mesh, int element, double *fpw);
 
   void init_meshes();

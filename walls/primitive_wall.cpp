@@ -1,6 +1,7 @@
 #include "primitive_wall.h"
 
 #include <cmath>
+#include <cstdio>
 
 namespace dembridge::walls {
 
@@ -29,6 +30,17 @@ bool PrimitiveWall::distance(const double *x, double r, double &dist_minus_r, do
     delta[c] = dz * fact;
   }
   return true;
+}
+
+std::string PrimitiveWall::describe() const
+{
+  const char ax = "xyz"[axis];
+  char buf[160];
+  if (shape == Shape::Plane)
+    std::snprintf(buf, sizeof buf, "%cplane at %.17g", ax, pos);
+  else
+    std::snprintf(buf, sizeof buf, "%ccylinder of radius %.17g about (%.17g, %.17g)", ax, radius, c1, c2);
+  return buf;
 }
 
 void PrimitiveWall::shear_velocity(const double *x, int dim, double v, double *vwall) const

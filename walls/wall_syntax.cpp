@@ -1,5 +1,6 @@
 #include "wall_syntax.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <set>
@@ -116,7 +117,11 @@ void parse_wall_keywords(const std::vector<std::string> &a, std::size_t k, const
         if (k + 1 + m >= a.size() || is_wall_keyword(a[k + 1 + m]) || is_2x_model_keyword(a[k + 1 + m]))
           throw SyntaxError(prefix + ": 'meshes' expects " + std::to_string(n_meshes) + " mesh fix IDs (n_meshes), got " +
                             std::to_string(m));
-        s.mesh_ids.push_back(a[k + 1 + m]);
+        const std::string &id = a[k + 1 + m];
+        if (std::find(s.mesh_ids.begin(), s.mesh_ids.end(), id) != s.mesh_ids.end())
+          throw SyntaxError(prefix + ": mesh '" + id + "' is listed twice in 'meshes' (expected " + std::to_string(n_meshes) +
+                            " different mesh fix IDs; a repeated mesh would act twice and double its wall force)");
+        s.mesh_ids.push_back(id);
       }
       k += 1 + n_meshes;
     } else if (w == "shear") {

@@ -1,5 +1,7 @@
 """fix wall/gran and compute wall/gran/local: bad input gets a LAMMPS ERROR naming the command, the
 argument and what was expected (issue 10, deliverable 7). One fresh LAMMPS instance per case."""
+import os
+
 import pytest
 
 from test_bad_input import run_deck  # one fresh LAMMPS per deck, returns the ERROR text
@@ -28,6 +30,14 @@ def wall(args, extra=()):
 
 
 W = "model hertz tangential history "
+PLATE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "liggghts-walls", "mesh", "plate.stl")
+
+
+def on_plate(x, y):
+    """the atom's centre at (x, y) on plate.stl (z = 0, two triangles, diagonal x = y)"""
+    return base() + MATERIAL + ["pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 1e-6",
+                                f"set atom 1 x {x} y {y} z 0.0", f"fix cad all mesh/surface file {PLATE} type 1",
+                                "fix w all wall/gran " + W + "mesh n_meshes 1 meshes cad", "fix i all nve/sphere", "run 2"]
 CASES = {
     "unknown_shape": (wall(W + "primitive type 1 wplane 0"), ["fix w wall/gran", "unknown primitive wall 'wplane'"]),
     "position_not_a_number": (wall(W + "primitive type 1 zplane abc"), ["fix w wall/gran", "expected a number", "'abc'"]),
@@ -41,6 +51,16 @@ CASES = {
     "mesh_then_primitive": (wall(W + "mesh n_meshes 1 meshes cad primitive type 1 zplane 0"), ["'primitive' given together with 'mesh'"]),
     "meshes_before_n_meshes": (wall(W + "mesh meshes cad"), ["have to define 'n_meshes' before 'meshes'"]),
     "too_few_meshes": (wall(W + "mesh n_meshes 2 meshes cad"), ["'meshes' expects 2 mesh fix IDs"]),
+    # a centre exactly on the wall: no contact normal (LIGGGHTS 3.8 computes NaN forces at step 0)
+    "centre_on_plane": (wall(W + "primitive type 1 zplane 0.004"),
+                        ["fix w wall/gran", "atom 1 at (0.001 0.002 0.0040000000000000001)", "has its centre on the zplane at 0.004",
+                         "contact normal is undefined"]),
+    "centre_in_mesh_face": (on_plate(0.001, 0.002), ["fix w wall/gran", "atom 1", "centre on triangle", "of mesh cad",
+                                                    "contact normal is undefined"]),
+    "centre_on_mesh_edge": (on_plate(0.01, -0.02), ["fix w wall/gran", "atom 1 at (0.01 -0.02 0)", "centre on triangle 1 (file order) of mesh cad",
+                                                   "contact normal is undefined"]),
+    "mesh_listed_twice": (wall(W + "mesh n_meshes 2 meshes cad cad"), ["fix w wall/gran", "mesh 'cad' is listed twice in 'meshes'",
+                                                                     "double its wall force"]),
     "unknown_model": (wall("model hooky tangential history primitive type 1 zplane 0"), ["fix w wall/gran", "unknown model 'hooky'"]),
     "bad_tangential": (wall("model hertz tangential histor primitive type 1 zplane 0"), ["fix w wall/gran", "'histor'"]),
     "missing_model": (wall("primitive type 1 zplane 0"), ["fix w wall/gran", "expected 'model"]),

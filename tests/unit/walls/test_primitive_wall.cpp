@@ -61,3 +61,23 @@ TEST(PrimitiveWall, ShearVelocity)
   EXPECT_NEAR(v[1], 0.6, 1e-15);
   EXPECT_EQ(v[2], 0.0);
 }
+
+TEST(PrimitiveWall, CentreOnTheWallHasNoNormal)
+{
+  PrimitiveWall w;
+  w.pos = 0.004;
+  double d, delta[3];
+  const double on[3] = {0.001, 0.002, 0.004};
+  ASSERT_TRUE(w.distance(on, 0.005, d, delta));
+  EXPECT_TRUE(dembridge::walls::normal_undefined(delta, 0.005));  // Δ = 0: LIGGGHTS divides 0 by 0
+  const double near[3] = {0.001, 0.002, 0.004 + 1e-13};          // 2e-11 of the radius away: defined
+  ASSERT_TRUE(w.distance(near, 0.005, d, delta));
+  EXPECT_FALSE(dembridge::walls::normal_undefined(delta, 0.005));
+  const double nan_delta[3] = {std::nan(""), 0.0, 0.0};
+  EXPECT_TRUE(dembridge::walls::normal_undefined(nan_delta, 0.005));
+  EXPECT_EQ(w.describe(), "zplane at 0.0040000000000000001");
+  w.shape = PrimitiveWall::Shape::Cylinder;
+  w.axis = 0;
+  w.radius = 0.04;
+  EXPECT_EQ(w.describe(), "xcylinder of radius 0.040000000000000001 about (0, 0)");
+}

@@ -98,6 +98,10 @@ TEST(WallSyntax, BadInputNamesTheArgument)
   EXPECT_NE(error_of("wall/gran", "model hertz primitive type 1 zcylinder 0 0 0").find("must be > 0"), std::string::npos);
   EXPECT_NE(error_of("wall/gran", "model hertz tangential history").find("no wall given"), std::string::npos);
   EXPECT_NE(error_of("wall/gran", "model hertz mesh n_meshes 2 meshes a").find("expects 2 mesh fix IDs"), std::string::npos);
+  // a repeated mesh would act twice (twice the force); LIGGGHTS 3.8 accepts it silently
+  EXPECT_NE(error_of("wall/gran", "model hertz mesh n_meshes 2 meshes cad cad").find("fix w wall/gran: mesh 'cad' is listed twice in 'meshes'"),
+            std::string::npos);
+  EXPECT_NE(error_of("wall/gran/hertz/history", "mesh n_meshes 3 meshes a b a").find("mesh 'a' is listed twice"), std::string::npos);
   EXPECT_NE(error_of("wall/gran", "model hertz mesh n_meshes 1 meshes a shear x 1").find("only available for primitive"),
             std::string::npos);
   EXPECT_NE(error_of("wall/gran", "model bogus primitive type 1 zplane 0").find("fix w wall/gran: unknown model 'bogus'"),

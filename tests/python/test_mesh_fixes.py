@@ -4,6 +4,7 @@ the mesh-triggered re-neighbouring, the stress vector, restart, and bad input.""
 import math
 import os
 import re
+import struct
 
 import pytest
 
@@ -341,3 +342,28 @@ def test_move_mesh_does_not_claim_to_integrate_the_atoms(tmp_path):
     text = log.read_text()
     assert "Loop time" in text
     assert "time integrated more than once" not in text
+
+
+def test_stl_file_errors_name_the_file_and_what_was_expected(tmp_path):
+    """A truncated binary STL, a folder, a 4th number on a vertex line and coordinates too large
+    for double arithmetic: each an ERROR of fix mesh/surface naming the file and the problem."""
+    plate = open(f"{DATA}/plate.stl").read()
+    binary = bytearray(80) + (2).to_bytes(4, "little")
+    for tri in ((-0.02, -0.02, 0, 0.02, -0.02, 0, 0.02, 0.02, 0), (-0.02, -0.02, 0, 0.02, 0.02, 0, -0.02, 0.02, 0)):
+        binary += struct.pack("<12fH", 0, 0, 1, *tri, 0)
+    cut = tmp_path / "cut.stl"
+    cut.write_bytes(bytes(binary[:-30]))
+    extra = bad_stl(tmp_path, "extra.stl", plate.replace("vertex 0.02 -0.02 0.0", "vertex 0.02 -0.02 0.0 1.0", 1))
+    huge = bad_stl(tmp_path, "huge.stl", "solid a\n" + FACET.format("0 0 0", "1e300 0 0", "0 1e300 0") + "endsolid a\n")
+    cases = {
+        "truncated binary": (cut, [f"file '{cut}': binary STL file '{cut}' (154 bytes)", "the header gives 2 facets",
+                                   "the file ends inside facet 2"]),
+        "folder": (tmp_path, [f"STL file '{tmp_path}' is a directory, expected an STL file"]),
+        "4th number": (extra, [f"malformed ASCII STL file '{extra}' line", "'1.0' after the 3 coordinates of a vertex"]),
+        "1e300": (huge, ["triangle 1 (file order): the length of edge 1 overflows double precision (coordinates up to 1e+300)"]),
+    }
+    for name, (path, needles) in cases.items():
+        msg = error_of(deck_head() + [f"fix cad all mesh/surface file {path} type 1"])
+        assert msg is not None, name
+        for n in ["fix mesh/surface (id cad)"] + needles:
+            assert n in msg, f"{name}: '{n}' not in: {msg}"

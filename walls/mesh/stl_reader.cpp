@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -13,6 +14,8 @@ namespace {
 
 std::string slurp(const std::string &path)
 {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw MeshError("STL file '" + path + "' is a directory, expected an STL file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw MeshError("cannot open STL file '" + path + "': " + std::strerror(errno));
   std::ostringstream os;
@@ -90,6 +93,8 @@ std::vector<TriangleNodes> parse_ascii(const std::string &text, const std::strin
         if (end == tok.c_str() || *end != '\0') fail("'" + tok + "' is not a number");
         cur[nvert][d] = v;
       }
+      if (std::string extra; ls >> extra)
+        fail("'" + extra + "' after the 3 coordinates of a vertex (expected 'vertex x y z')");
       ++nvert;
     } else if (word == "endloop") {
       if (!in_loop) fail("'endloop' without 'outer loop'");
@@ -111,6 +116,31 @@ std::vector<TriangleNodes> parse_ascii(const std::string &text, const std::strin
   return tris;
 }
 
+// ASCII STL is text: no control bytes but whitespace (a binary facet holds NUL bytes at the latest
+// in its attribute count).
+bool looks_like_text(const std::string &bytes)
+{
+  for (unsigned char c : bytes)
+    if ((c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\v' && c != '\f') || c == 0x7f) return false;
+  return true;
+}
+
+// A binary STL whose size does not fit its facet count: truncated, or the count is wrong.
+[[noreturn]] void binary_size_error(const std::string &bytes, const std::string &path)
+{
+  const std::string head = "binary STL file '" + path + "' (" + std::to_string(bytes.size()) + " bytes): ";
+  if (bytes.size() < 84) throw MeshError(head + "shorter than the 84-byte header with the facet count");
+  const std::uint64_t n = facet_count(bytes), want = 84 + 50 * n, have = bytes.size();
+  std::string msg = head + "the header gives " + std::to_string(n) + " facets, which take 84 + 50*" + std::to_string(n) + " = " +
+                    std::to_string(want) + " bytes; ";
+  if (have < want)
+    msg += "the file ends inside facet " + std::to_string((have - 84) / 50 + 1) + " (truncated, or a wrong facet count)";
+  else
+    msg += std::to_string(have - want) + " bytes follow the last facet (a wrong facet count?)";
+  if ((have - 84) % 50 == 0) msg += "; the size fits " + std::to_string((have - 84) / 50) + " facets";
+  throw MeshError(msg);
+}
+
 }  // namespace
 
 bool looks_like_binary_stl(const std::string &bytes)
@@ -124,6 +154,7 @@ std::vector<TriangleNodes> read_stl(const std::string &path)
   const std::string bytes = slurp(path);
   if (bytes.empty()) throw MeshError("STL file '" + path + "' is empty");
   if (looks_like_binary_stl(bytes)) return parse_binary(bytes, path);
+  if (!looks_like_text(bytes)) binary_size_error(bytes, path);
   return parse_ascii(bytes, path);
 }
 

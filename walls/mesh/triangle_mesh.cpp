@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <sstream>
 
@@ -14,6 +15,13 @@ namespace dembridge::mesh {
 namespace {
 
 std::string tri_label(int t) { return "triangle " + std::to_string(t + 1) + " (file order)"; }
+
+std::string number(double v)
+{
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
 
 }  // namespace
 
@@ -73,9 +81,16 @@ void TriangleMesh::validate()
     for (int k = 0; k < 3; ++k) {
       const Vec3 v = sub(nd[(k + 1) % 3], nd[k]);
       const double l = norm(v);
+      if (std::isinf(l)) {
+        double big = 0.0;
+        for (const Vec3 &p : nd)
+          for (double c : p) big = std::max(big, std::fabs(c));
+        throw MeshError(tri_label(t) + ": the length of edge " + std::to_string(k + 1) + " overflows double precision (coordinates up to " +
+                        number(big) + "); expected coordinates well below 1e150 (scale the mesh)");
+      }
       if (!(l > opt_.precision))
         throw MeshError(tri_label(t) + " is degenerate: edge " + std::to_string(k + 1) +
-                        " is shorter than the precision " + std::to_string(opt_.precision));
+                        " is shorter than the precision " + number(opt_.precision));
       ev[k] = div_by(v, l);
     }
     if (!(norm(cross(ev[0], ev[1])) > 0.0)) throw MeshError(tri_label(t) + " is degenerate: its nodes are colinear");

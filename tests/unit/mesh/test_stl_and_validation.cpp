@@ -129,6 +129,65 @@ TEST(StlReader, MalformedAsciiNamesTheLine)
             std::string::npos);
 }
 
+TEST(StlReader, TruncatedOrMiscountedBinaryIsReportedAsBinary)
+{
+  const std::string two = binary_stl({{0, 0, 0, 1, 0, 0, 0, 1, 0}, {1, 0, 0, 1, 1, 0, 0, 1, 0}});
+  std::string msg = error_of(temp_file("cut.stl", two.substr(0, two.size() - 20)));
+  EXPECT_NE(msg.find("binary STL file '"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("cut.stl' (164 bytes): the header gives 2 facets, which take 84 + 50*2 = 184 bytes; the file ends inside "
+                     "facet 2 (truncated, or a wrong facet count)"),
+            std::string::npos)
+      << msg;
+  EXPECT_EQ(msg.find("ASCII"), std::string::npos) << msg;
+  std::string miscounted = two;
+  miscounted[80] = 3;  // the header claims 3 facets
+  msg = error_of(temp_file("count.stl", miscounted));
+  EXPECT_NE(msg.find("the header gives 3 facets, which take 84 + 50*3 = 234 bytes; the file ends inside facet 3 (truncated, or a "
+                     "wrong facet count); the size fits 2 facets"),
+            std::string::npos)
+      << msg;
+  miscounted[80] = 1;
+  msg = error_of(temp_file("count1.stl", miscounted));
+  EXPECT_NE(msg.find("the header gives 1 facets, which take 84 + 50*1 = 134 bytes; 50 bytes follow the last facet"), std::string::npos) << msg;
+  msg = error_of(temp_file("short.stl", std::string("solid\0\0", 7)));
+  EXPECT_NE(msg.find("(7 bytes): shorter than the 84-byte header"), std::string::npos) << msg;
+}
+
+TEST(StlReader, FolderIsNotAnStlFile)
+{
+  const std::string msg = error_of(::testing::TempDir());
+  EXPECT_NE(msg.find("' is a directory, expected an STL file"), std::string::npos) << msg;
+}
+
+TEST(StlReader, FourthNumberOnAVertexLineIsAnError)
+{
+  const std::string msg = error_of(temp_file("v4.stl", ascii_facets(facet("0 0 0", "1 0 0 7", "0 1 0"))));
+  EXPECT_NE(msg.find("v4.stl' line 5: '7' after the 3 coordinates of a vertex (expected 'vertex x y z')"), std::string::npos) << msg;
+}
+
+TEST(MeshValidation, HugeCoordinatesOverflowNotColinear)
+{
+  const std::string msg = error_of(temp_file("huge.stl", ascii_facets(facet("0 0 0", "1e300 0 0", "0 1e300 0"))));
+  EXPECT_NE(msg.find("triangle 1 (file order): the length of edge 1 overflows double precision (coordinates up to 1e+300); "
+                     "expected coordinates well below 1e150"),
+            std::string::npos)
+      << msg;
+  EXPECT_EQ(msg.find("colinear"), std::string::npos) << msg;
+}
+
+TEST(MeshValidation, PrecisionIsPrintedReadably)
+{
+  MeshOptions opt;
+  opt.precision = 1e-8;
+  std::string msg;
+  try {
+    TriangleMesh m({TriangleNodes{Vec3{0, 0, 0}, Vec3{1e-9, 0, 0}, Vec3{0, 1, 0}}}, opt);
+  } catch (const MeshError &e) {
+    msg = e.what();
+  }
+  EXPECT_NE(msg.find("triangle 1 (file order) is degenerate: edge 1 is shorter than the precision 1e-08"), std::string::npos) << msg;
+}
+
 TEST(MeshValidation, NanTriangleIsRejected)
 {
   const std::string msg = error_of(temp_file("nan.stl", ascii_facets(facet("0 0 0", "1 0 0", "0 1 0") + facet("0 0 0", "nan 0 0", "0 1 0"))));

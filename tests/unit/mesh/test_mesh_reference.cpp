@@ -93,6 +93,18 @@ TEST_P(MeshReference, TopologyGeometryAndContactsAreBitIdentical)
   EXPECT_GT(c.edges + c.corners, 0);  // the edge/corner rules are exercised, not only faces
 }
 
+// Beyond an obtuse corner (the node LIGGGHTS flags) the closest point may lie on either adjacent
+// edge; its barycentric weights are the wall velocity's (spec §7.1). 73 probes in that corner's
+// wedge, 36 on the edge before the corner and 37 on the edge after it.
+TEST(MeshReferenceObtuseCorner, EdgeBranchesAreBitIdentical)
+{
+  const TriangleMesh m(read_stl(data_path("obtuse_corner.stl")));
+  ASSERT_EQ(m.obtuse(0), 2);
+  const Counts c = check_against_reference(m, "obtuse_corner.ref");
+  EXPECT_EQ(c.probes, 73);
+  EXPECT_EQ(c.edges, 73);
+}
+
 INSTANTIATE_TEST_SUITE_P(OracleMeshes, MeshReference,
                          ::testing::Values("plate.stl", "box.stl", "paddle.stl", "pusher.stl", "funnel_snapped.stl", "obtuse.stl"));
 

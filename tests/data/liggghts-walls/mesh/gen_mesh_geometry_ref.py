@@ -6,7 +6,7 @@ oracle case). Run once; the tests read only the files written here.
   python3 gen_mesh_geometry_ref.py /path/to/shared/oracle/liggghts-walls
 
 Writes (next to this script): the STL files used, obtuse.stl (a synthetic mesh with obtuse
-triangles, coplanar and folded shared edges), and *.ref files of lines 'keyword value...' with
+triangles, coplanar and folded shared edges), obtuse_corner.stl (one obtuse triangle), and *.ref files of lines 'keyword value...' with
 doubles as C99 hex floats (exact)."""
 import importlib.util
 import math
@@ -53,6 +53,18 @@ def write_obtuse():
                 f.write('      vertex %r %r %r\n' % tuple(p))
             f.write('    endloop\n  endfacet\n')
         f.write('endsolid obtuse\n')
+
+
+def write_obtuse_corner():
+    """one tilted triangle, obtuse at node 2 (the node LIGGGHTS flags), all edges and corners active:
+    the obtuse-corner edge branches are reachable (in obtuse.stl that corner's edges are shared with
+    coplanar neighbours, hence inactive)"""
+    t = [[0.0, 0.0, 0.0], [0.04, 0.001, 0.003], [0.02, 0.005, 0.001]]
+    with open(os.path.join(HERE, 'obtuse_corner.stl'), 'w') as f:
+        f.write('solid obtuse_corner\n  facet normal 0 0 0\n    outer loop\n')
+        for p in t:
+            f.write('      vertex %r %r %r\n' % tuple(p))
+        f.write('    endloop\n  endfacet\nendsolid obtuse_corner\n')
 
 
 def write_snapped(src, dst, prec=1e-8):
@@ -104,8 +116,33 @@ def probes(out, m, rng, n_per_tri):
                     out.write('probe %d %s %s hit %s %s %s %d\n' % (t, hv(q), h(r), h(dn), hv(delta), hv(bary), sign))
 
 
+def obtuse_probes(out, m):
+    """points in the wedge beyond each flagged obtuse corner (only that corner's barycentric
+    coordinate positive), on a fixed fan of directions (no random numbers, so the other files'
+    probes stay as they were), kept where the model's closest point lies on one of the corner's
+    two edges: the obtuse-corner edge branches, whose barycentric weights feed the wall velocity"""
+    for t in range(m.n):
+        o = m.obtuse[t]
+        if o < 0:
+            continue
+        nd, rb, sn = m.node[t], m.rb[t], m.sn[t]
+        w1 = scw.sdiv(m.ev[t][o], scw.mag(m.ev[t][o]))
+        w2 = scw.cross(sn, w1)
+        for deg in range(0, 360, 5):
+            th = math.radians(deg)
+            u = [math.cos(th) * w1[k] + math.sin(th) * w2[k] for k in range(3)]
+            for d, lift in ((0.1, 0.0), (0.25, 0.3), (0.5, -0.2)):
+                r = 0.9 * rb
+                q = [nd[o][k] + d * rb * u[k] + lift * r * sn[k] for k in range(3)]
+                dn, delta, sign, bary = m.resolve(t, r, q)
+                if delta is None or sign != 1 << o or bary[o] in (0.0, 1.0):
+                    continue
+                out.write('probe %d %s %s hit %s %s %s %d\n' % (t, hv(q), h(r), h(dn), hv(delta), hv(bary), sign))
+
+
 def main():
     write_obtuse()
+    write_obtuse_corner()
     write_snapped('funnel.stl', 'funnel_snapped.stl')
     rng = random.Random(20261125)
     for name in ('plate.stl', 'box.stl', 'paddle.stl', 'pusher.stl', 'funnel_snapped.stl', 'obtuse.stl'):
@@ -158,6 +195,12 @@ def main():
                 for t in range(m.n):
                     out.write('state %d %s %s %s %s\n' % (t, ' '.join(hv(p) for p in m.node[t]), ' '.join(hv(e) for e in m.ev[t]),
                                                           hv(m.sn[t]), ' '.join(hv(v_) for v_ in m.vel[t])))
+    # the obtuse-corner edge branches (no random numbers: the files above are unchanged by it)
+    m = scw.Mesh(scw.read_stl(os.path.join(HERE, 'obtuse_corner.stl')))
+    with open(os.path.join(HERE, 'obtuse_corner.ref'), 'w') as out:
+        out.write('# obtuse_corner.stl: spec_check_walls.Mesh geometry and resolve() probes beyond the obtuse corner\n')
+        dump_mesh(out, m)
+        obtuse_probes(out, m)
 
 
 main()

@@ -33,11 +33,11 @@ W = "model hertz tangential history "
 PLATE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "liggghts-walls", "mesh", "plate.stl")
 
 
-def on_plate(x, y):
-    """the atom's centre at (x, y) on plate.stl (z = 0, two triangles, diagonal x = y)"""
+def on_plate(x, y, z=0.0, meshes="n_meshes 1 meshes cad"):
+    """the atom's centre at (x, y, z) over plate.stl (z = 0, two triangles, diagonal x = y; radius 0.005)"""
     return base() + MATERIAL + ["pair_style gran model hertz tangential history", "pair_coeff * *", "timestep 1e-6",
-                                f"set atom 1 x {x} y {y} z 0.0", f"fix cad all mesh/surface file {PLATE} type 1",
-                                "fix w all wall/gran " + W + "mesh n_meshes 1 meshes cad", "fix i all nve/sphere", "run 2"]
+                                f"set atom 1 x {x} y {y} z {z}", f"fix cad all mesh/surface file {PLATE} type 1",
+                                "fix w all wall/gran " + W + "mesh " + meshes, "fix i all nve/sphere", "run 2"]
 CASES = {
     "unknown_shape": (wall(W + "primitive type 1 wplane 0"), ["fix w wall/gran", "unknown primitive wall 'wplane'"]),
     "position_not_a_number": (wall(W + "primitive type 1 zplane abc"), ["fix w wall/gran", "expected a number", "'abc'"]),
@@ -59,7 +59,7 @@ CASES = {
                                                     "contact normal is undefined"]),
     "centre_on_mesh_edge": (on_plate(0.01, -0.02), ["fix w wall/gran", "atom 1 at (0.01 -0.02 0)", "centre on triangle 1 (file order) of mesh cad",
                                                    "contact normal is undefined"]),
-    "mesh_listed_twice": (wall(W + "mesh n_meshes 2 meshes cad cad"), ["fix w wall/gran", "mesh 'cad' is listed twice in 'meshes'",
+    "mesh_listed_twice": (on_plate(0.001, 0.002, 0.004, "n_meshes 2 meshes cad cad"), ["fix w wall/gran", "mesh 'cad' is listed twice in 'meshes'",
                                                                      "double its wall force"]),
     "unknown_model": (wall("model hooky tangential history primitive type 1 zplane 0"), ["fix w wall/gran", "unknown model 'hooky'"]),
     "bad_tangential": (wall("model hertz tangential histor primitive type 1 zplane 0"), ["fix w wall/gran", "'histor'"]),

@@ -4,11 +4,14 @@
   pusher (fix move/mesh linear) is in contact with a sphere at the split (step 300), a zplane floor
   under both spheres; LIGGGHTS's own `run 300` + `run 200` and ours agree bitwise. (Zeroing the
   velocities at setup, as the plugin did before, departs from it by 5e-5 in v.)
-* Every run's setup recomputes the forces from the full-step velocities where the step itself used
-  the half-step ones, so any velocity-dependent contact force differs for that one evaluation: a
-  split run departs from the continuous one at round-off level (measured here 1e-7 in v). That is
-  LIGGGHTS's and LAMMPS's own behaviour: LIGGGHTS shows the same departure, and so does LAMMPS's
-  built-in `fix wall/gran` on a primitive wall; the plugin's primitive wall departs as LIGGGHTS's.
+* Every run's setup evaluates the forces once more, from the full-step velocities (the step itself
+  used the half-step ones) and without advancing the history; the next step starts from those
+  forces, so a split run departs from the continuous one. LAMMPS's built-in `fix wall/gran` does
+  too (a sphere sliding on a damped zplane: 5e-7 relative in v after `run 200` + `run 200`). In
+  LIGGGHTS 3.8 the departure is larger where a contact slides (4e-3 in v on the same sphere): its
+  tangential damping acts only while the contact sticks, and the setup's slightly different normal
+  force can turn a sliding contact into a sticking one for that evaluation. The plugin's split run
+  is LIGGGHTS's own, bit for bit (the pusher with its floor, and the sliding sphere).
 * `run M pre no` skips that setup: `run 300` + `run 200 pre no` equals `run 500` bitwise in LIGGGHTS,
   in the plugin and in the built-in (tests/python/test_walls_ranks_restart.py does it on a moving-
   mesh bed)."""
@@ -123,10 +126,19 @@ pair_style gran model hooke tangential history
 pair_coeff * *"""
 
 
+def _liggghts_resting(tmp_path, name, runs):
+    deck = RESTING.format(pair=MATERIALS, wall=PLUGIN_WALL, runs=runs).replace("atom_style sphere", "atom_style granular")
+    deck = deck.replace("comm_modify vel yes", "communicate single vel yes")
+    deck = deck.replace("format float %.17g", 'format "%d' + " %.17g" * 16 + '"')
+    src = tmp_path / f"liggghts_src_{name}"
+    src.mkdir()
+    return oh.read_dump(oh.run_liggghts(src, tmp_path / f"liggghts_{name}", deck_text=deck))
+
+
 @pytest.mark.parametrize("wall", ["builtin", "plugin"])
 def test_primitive_wall_split_is_lammps_behaviour(plugin, tmp_path, wall):
-    """The built-in wall and the plugin's both depart across a split (the setup's force from the
-    full-step velocity) and both continue bitwise with `pre no`."""
+    """The built-in wall and the plugin's both depart across a split (the setup's force evaluation)
+    and both continue bitwise with `pre no`; the plugin's split run is LIGGGHTS 3.8's bit for bit."""
     if wall == "builtin":
         head, pair, line = "", "pair_style gran/hooke/history 2e5 NULL 3000 NULL 0.5 1\npair_coeff * *", BUILTIN_WALL
     else:
@@ -137,5 +149,8 @@ def test_primitive_wall_split_is_lammps_behaviour(plugin, tmp_path, wall):
     at = got["cont"][200]
     assert at["f"][0, 2] + 9.81 * at["mass"][0] > 0, "the sphere must touch the wall at the split"
     assert _max_dv(got["split"], got["cont"]) > 0.0
+    if wall == "plugin":
+        rep = oh.compare(_liggghts_resting(tmp_path, "split", runs["split"]), got["split"], 0.0, label="split, LIGGGHTS vs plugin")
+        assert rep.passed, rep.summary()
     rep = oh.compare(got["cont"], got["pre_no"], 0.0, label=f"{wall}: run 200 + run 200 pre no vs run 400")
     assert rep.passed, rep.summary()

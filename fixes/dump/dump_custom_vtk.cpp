@@ -63,7 +63,7 @@ constexpr const char *kSupported =
 
 }  // namespace
 
-DumpCustomVTK::DumpCustomVTK(LAMMPS *lmp, int narg, char **arg) : Dump(lmp, narg, arg)
+DumpCustomVTK::DumpCustomVTK(LAMMPS *lmp, int narg, char **arg) : SelfWritingDump(lmp, narg, arg)
 {
   caller_ = std::string("dump custom/vtk (id ") + arg[0] + ")";
   pattern_ = arg[4];

@@ -7,7 +7,7 @@
 // dump_modify: first, every, every/time, label TEXT, region ID|none; any other keyword is an ERROR.
 #pragma once
 
-#include "lammps_dump_base.h"
+#include "self_writing_dump.h"
 #include "particle_vtk.h"
 
 #include <string>
@@ -21,7 +21,7 @@ class Fix;
 
 namespace dembridge {
 
-class DumpCustomVTK : public LAMMPS_NS::Dump {
+class DumpCustomVTK : public SelfWritingDump {
  public:
   DumpCustomVTK(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
   void write() override;
@@ -41,9 +41,6 @@ class DumpCustomVTK : public LAMMPS_NS::Dump {
 
  protected:
   void init_style() override;
-  void write_header(LAMMPS_NS::bigint) override {}
-  void pack(LAMMPS_NS::tagint *) override {}
-  void write_data(int, double *) override {}
   int modify_param(int narg, char **arg) override;
 
  private:

@@ -1,6 +1,6 @@
 // LIGGGHTS 3.8's other VTK dump names: each an ERROR that says what to use instead, rather than
 // LAMMPS's bare "Unrecognized dump style".
-#include "lammps_dump_base.h"
+#include "self_writing_dump.h"
 #include "style_registry.h"
 
 #include "error.h"
@@ -23,9 +23,9 @@ const char *instead(const std::string &style)
   return "fix ave/euler is not available; LAMMPS's fix ave/chunk with compute chunk/atom bin/3d gives cell averages";
 }
 
-class DumpRefused : public Dump {
+class DumpRefused : public SelfWritingDump {
  public:
-  DumpRefused(LAMMPS *lmp, int narg, char **arg) : Dump(lmp, narg, arg)
+  DumpRefused(LAMMPS *lmp, int narg, char **arg) : SelfWritingDump(lmp, narg, arg)
   {
     error->all(FLERR, std::string("dump ") + arg[2] + " (id " + arg[0] + "): LIGGGHTS's dump style '" + arg[2] +
                           "' is not available: " + instead(arg[2]));
@@ -33,9 +33,6 @@ class DumpRefused : public Dump {
 
  protected:
   void init_style() override {}
-  void write_header(bigint) override {}
-  void pack(tagint *) override {}
-  void write_data(int, double *) override {}
 };
 
 }  // namespace

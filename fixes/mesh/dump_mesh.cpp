@@ -32,7 +32,7 @@ const char *unsupported_vtk_keyword(const std::string &w)
 
 }  // namespace
 
-DumpMesh::DumpMesh(LAMMPS *lmp, int narg, char **arg) : Dump(lmp, narg, arg)
+DumpMesh::DumpMesh(LAMMPS *lmp, int narg, char **arg) : SelfWritingDump(lmp, narg, arg)
 {
   out_.vtk = std::strcmp(arg[2], "mesh/stl") != 0 && std::strcmp(arg[2], "stl") != 0;  // mesh/gran/VTK = mesh/vtk
   out_.caller = std::string("dump ") + arg[2] + " (id " + arg[0] + ")";

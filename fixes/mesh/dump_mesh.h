@@ -9,7 +9,7 @@
 // the next run for those liblammps's Dump handles itself).
 #pragma once
 
-#include "lammps_dump_base.h"
+#include "self_writing_dump.h"
 #include "mesh_output.h"
 
 #include <vector>
@@ -18,16 +18,13 @@ namespace dembridge {
 
 class MeshArgs;
 
-class DumpMesh : public LAMMPS_NS::Dump {
+class DumpMesh : public SelfWritingDump {
  public:
   DumpMesh(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
   void write() override;  // the whole frame: the base class's per-atom machinery is not used
 
  protected:
   void init_style() override;
-  void write_header(LAMMPS_NS::bigint) override {}
-  void pack(LAMMPS_NS::tagint *) override {}
-  void write_data(int, double *) override {}
   int modify_param(int narg, char **arg) override;
 
  private:

@@ -3,6 +3,7 @@ Usage: python3 trim.py <mbdyn-ext folder>. Values are copied verbatim; only whol
 or whole steps (tight: the prediction, every iterate and their answers) are left out."""
 import csv
 import gzip
+import io
 import os
 import sys
 
@@ -32,10 +33,11 @@ def steps(rows):
     return head, groups
 
 
-def trim(name, every):
-    head, groups = steps(rows_of(os.path.join(src, "refnode_forces", name)))
+def trim(name, every, case="refnode_forces"):
+    head, groups = steps(rows_of(os.path.join(src, case, name)))
     keep = head + [r for i, g in enumerate(groups) if i == 0 or i % every == 0 or g[0]["cmd"] == "5" for r in g]
-    with gzip.open(os.path.join(here, "refnode_forces", name), "wt", compresslevel=9) as f:
+    raw = gzip.GzipFile(os.path.join(here, case, name), "wb", compresslevel=9, mtime=0)  # reproducible bytes
+    with io.TextIOWrapper(raw, newline="") as f:
         w = csv.DictWriter(f, fieldnames=["seq", "dir", "cmd", "values"], lineterminator="\n")
         w.writeheader()
         w.writerows(keep)
@@ -43,3 +45,5 @@ def trim(name, every):
 
 trim("transcript_loose.csv.gz", 4)
 trim("transcript_tight.csv.gz", 8)
+trim("transcript_loose.csv.gz", 10, "mapping_beam")
+trim("transcript_tight.csv.gz", 20, "mapping_beam")

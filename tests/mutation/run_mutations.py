@@ -11,7 +11,8 @@ replaces one exact line fragment that must occur once in its file (a changed ups
 as "stale", never silently skipped); the file is restored before the next one. Before any mutation, the
 listed tests run on the unchanged copy and must pass. Run it with `nice`: it compiles and runs LIGGGHTS.
 
-killed: at least one listed test fails; survived: all pass; build-error: the mutant does not compile.
+killed: at least one listed test fails (the unit tests run first; a mutant they kill is not built into the
+plugin); survived: all pass; build-error: the mutant does not compile.
 Exit status 0 when every mutation marked `must_kill` is killed.
 """
 from __future__ import annotations
@@ -139,10 +140,12 @@ def copy_tree(scratch: Path) -> Path:
 
 
 def targets_of(tests):
-    out = {"dembridgeplugin"}
+    out = set()
     for t in tests:
         if t.startswith("unit."):
             out.add("unit_" + t.split(".")[1])
+        else:
+            out.add("dembridgeplugin")
         if "mbdyn" in t:
             out.add("mbdyn_testpeer")
     return sorted(out)
@@ -214,12 +217,18 @@ def main(argv=None):
         f.write_text(text.replace(m.old, m.new))
         t0 = time.monotonic()
         try:
-            rc, out, _ = build_for(m.tests)
-            if rc:
-                rows.append((m, "build-error", out.strip().splitlines()[-1] if out.strip() else "", time.monotonic() - t0))
-                continue
-            failed = run_tests(src, m.tests, env, log)
-            rows.append((m, "killed" if failed else "survived", ", ".join(failed), time.monotonic() - t0))
+            # the unit tests first: a mutant they kill needs no plugin build and no LAMMPS run
+            failed, error = [], ""
+            for stage in ([t for t in m.tests if t.startswith("unit.")], [t for t in m.tests if not t.startswith("unit.")]):
+                if not stage or failed:
+                    continue
+                rc, out, _ = build_for(stage)
+                if rc:
+                    error = out.strip().splitlines()[-1] if out.strip() else "build failed"
+                    break
+                failed = run_tests(src, stage, env, log)
+            result = "build-error" if error else "killed" if failed else "survived"
+            rows.append((m, result, error or ", ".join(failed), time.monotonic() - t0))
         finally:
             f.write_text(text)
         print(f"{rows[-1][1]:>11}  {m.name}  {rows[-1][2]}", flush=True)

@@ -147,3 +147,16 @@ def test_file_keywords_bad_input(case, folder):
     for e in expect:
         assert e in err, err
     assert secs < 15
+
+
+@pytest.mark.parametrize("text,expect", [
+    ("# regular nodes\n0.1 0 0 0 0\n", "OUT.dat line 2: expected 6 values (x y z v(3)), found 5"),
+    ("# regular nodes\n0.1 0 0 nan 0 0\n", "OUT.dat line 2: v expects a finite number, got 'nan'"),
+    ("# regular nodes\n", "OUT.dat: expected 1 point line(s) (x y z v(3)), found 0"),
+])
+def test_malformed_out_file_is_an_error_naming_file_and_line(folder, text, expect):
+    RecordedMbdynFiles(folder, [text], timeout=2)  # it then waits for an answer that never comes
+    rc, out, _ = run_lammps(file_deck(folder, 2), folder, timeout=60)
+    err = error_line(out)
+    assert rc != 0
+    assert "Fix mbdyn (id M)" in err and expect in err, err

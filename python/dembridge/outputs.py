@@ -95,3 +95,27 @@ def read_history_csv(path):
         head = next(r)
         a = np.array([[float(x) for x in row] for row in r if row], dtype=float).reshape(-1, len(head))
     return {c: a[:, k] for k, c in enumerate(head)}
+
+
+def read_vtk_particles(path):
+    """One frame of ``dump custom/vtk`` (legacy ASCII VTK, as LIGGGHTS writes it) as a dict of NumPy
+    arrays: ``points`` (N x 3) and every named array (N, or N x 3 for a vector such as ``v``)."""
+    tokens = open(path).read().split()
+    out, k = {}, 0
+    n = 0
+    while k < len(tokens):
+        t = tokens[k]
+        if t == "POINTS":
+            n = int(tokens[k + 1])
+            out["points"] = np.array(tokens[k + 3:k + 3 + 3 * n], dtype=float).reshape(n, 3)
+            k += 3 + 3 * n
+        elif t == "FIELD":
+            narr, k = int(tokens[k + 2]), k + 3
+            for _ in range(narr):
+                name, comps, rows = tokens[k], int(tokens[k + 1]), int(tokens[k + 2])
+                vals = np.array(tokens[k + 4:k + 4 + comps * rows], dtype=float)
+                out[name] = vals if comps == 1 else vals.reshape(rows, comps)
+                k += 4 + comps * rows
+        else:
+            k += 1
+    return out

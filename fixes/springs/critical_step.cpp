@@ -1,4 +1,5 @@
 #include "critical_step.h"
+#include "critical_parmec_order.h"
 
 #include <Eigen/Dense>
 #include <cfloat>
@@ -11,7 +12,7 @@ CriticalEstimate oscillator_step(double omega, double xi) {
   return {(2.0 / omega) * (std::sqrt(1.0 + xi * xi) - xi), omega, xi};
 }
 
-CriticalEstimate spring_critical(const SpringLaw& law, double m_s) {
+CriticalEstimate spring_critical(const SpringLaw& law, double m_s, bool parmec_order) {
   const double k = law.spring->max_abs_slope();
   const double omega = std::sqrt(k / m_s);
   double xi = 0.0;
@@ -19,7 +20,7 @@ CriticalEstimate spring_critical(const SpringLaw& law, double m_s) {
     xi = law.damping_ratio;
   else if (law.dashpot && omega > 0.0)
     xi = law.dashpot->max_abs_slope() / (2.0 * m_s * omega);
-  return oscillator_step(omega, xi);
+  return parmec_order ? parmec_order::oscillator_step(omega, xi) : oscillator_step(omega, xi);
 }
 
 double spring_max_damping(const SpringLaw& law, double m_s) {
@@ -31,6 +32,15 @@ double spring_max_damping(const SpringLaw& law, double m_s) {
 void ParticleCritical::add_spring(double k_s, double e, const Vec3& d, bool planar, const Vec3& A) {
   ++count_;
   const double dl = norm(d);
+  if (parmec_) {
+    const Vec3 n = dl == 0.0 ? Vec3{1.0, 1.0, 1.0} : planar ? parmec_order::planar_counts(d)
+                                                             : Vec3{std::fabs(d[0]), std::fabs(d[1]), std::fabs(d[2])};
+    for (int i = 0; i < 3; ++i) axis_count_[i] += n[i];
+    k_max_ = std::fmax(k_max_, k_s);
+    e_max_ = std::fmax(e_max_, e);
+    parmec_order::add_arm(krot_, A);
+    return;
+  }
   if (dl == 0.0) {
     axis_count_ = axis_count_ + Vec3{1.0, 1.0, 1.0};
   } else if (planar) {
@@ -57,6 +67,7 @@ void ParticleCritical::add_spring(double k_s, double e, const Vec3& d, bool plan
 
 CriticalEstimate ParticleCritical::estimate(double mass, const std::array<double, 9>& inertia) const {
   if (count_ == 0) return {DBL_MAX, 0.0, 0.0};
+  if (parmec_) return parmec_order::particle_step(mass, inertia, axis_count_, k_max_, e_max_, krot_);
   const double nmax = std::fmax(axis_count_[0], std::fmax(axis_count_[1], axis_count_[2]));
   const double wt = std::sqrt(nmax * k_max_ / mass);
   CriticalEstimate best = oscillator_step(wt, wt > 0.0 ? e_max_ / (2.0 * mass * wt) : 0.0);

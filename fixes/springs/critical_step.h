@@ -20,7 +20,8 @@ CriticalEstimate oscillator_step(double omega, double xi);
 
 // Per spring: k_s = max |slope| of the spring table, m_s = EQM of the spring's points along its current
 // direction; xi = the ratio, or max |dashpot slope| / (2 m_s omega).
-CriticalEstimate spring_critical(const SpringLaw& law, double m_s);
+// parmec_order: Parmec's rounding (critical_parmec_order.h).
+CriticalEstimate spring_critical(const SpringLaw& law, double m_s, bool parmec_order = false);
 
 // Largest damping coefficient of a spring, as the per-particle estimate uses it:
 // ratio: zeta 2 sqrt(k_s m_s); table: max |dashpot slope|; none: 0.
@@ -30,6 +31,9 @@ double spring_max_damping(const SpringLaw& law, double m_s);
 // planar flag: Q18 fixed), then estimate.
 class ParticleCritical {
  public:
+  // parmec_order: accumulate and estimate in the operation order of Parmec's kernels
+  // (critical_parmec_order.h); add the springs in Parmec's spring order for its rounding of the sums.
+  explicit ParticleCritical(bool parmec_order = false) : parmec_(parmec_order) {}
   // k_s, e: spring_critical's stiffness and spring_max_damping(); d: the spring's current direction
   // (0 = unknown: counts 1 per axis); planar: d is the plane normal of a PLANAR spring; arm: body-frame
   // arm Λ^T (p - x) of the spring point on this particle.
@@ -46,6 +50,8 @@ class ParticleCritical {
   double k_max_ = 0.0;
   double e_max_ = 0.0;
   std::array<double, 9> arm_sum_{};  // sum of |A|^2 I - A A^T
+  bool parmec_ = false;
+  std::array<double, 6> krot_{};     // parmec_: the same sums as Parmec keeps them (K11 K22 K33 K21 K31 K32)
 };
 
 }  // namespace dembridge::springs

@@ -1,4 +1,5 @@
 #include "equivalent_mass.h"
+#include "critical_parmec_order.h"
 
 #include <Eigen/Dense>
 #include <stdexcept>
@@ -87,7 +88,7 @@ std::array<double, 9> point_inverse_mass(const BodyMass& body, const Vec3& P, Eq
 }
 
 double equivalent_mass(const BodyMass& body1, const Vec3& P1, const BodyMass* body2, const Vec3& P2, const Vec3& d,
-                       EqmArm arm, bool fused) {
+                       EqmArm arm, bool fused, bool parmec_eigenvalue) {
   Mat3 Minv;
   if (fused) {  // eqm()'s order: ((M1 + 1/m1) + M2) + 1/m2
     Minv = rotational_inverse_mass_fused(body1, P1, arm);
@@ -105,6 +106,11 @@ double equivalent_mass(const BodyMass& body1, const Vec3& P1, const BodyMass* bo
     Vec3 t;
     for (int i = 0; i < 3; ++i) t[i] = fused_sum(Minv(i, 0), d[0], Minv(i, 1), d[1], Minv(i, 2), d[2]);
     lambda = fused_sum(t[0], d[0], t[1], d[1], t[2], d[2]);
+  } else if (fused && parmec_eigenvalue && d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0) {
+    std::array<double, 9> m;  // symmetric: row- and column-major alike
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) m[3 * j + i] = Minv(i, j);
+    lambda = parmec_order::extremum_eigenvalue(m, true);
   } else if (d[0] != 0.0 || d[1] != 0.0 || d[2] != 0.0) {
     const Eigen::Vector3d v(d[0], d[1], d[2]);
     lambda = v.dot(Minv * v);

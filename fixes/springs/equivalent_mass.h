@@ -33,8 +33,9 @@ std::array<double, 9> point_inverse_mass(const BodyMass& body, const Vec3& P, Eq
 // m_eq = 1/(d^T M^-1 d) for d != 0 (d used as given), else 1/lambda_min(M^-1): the largest point
 // mass (Q17 fixed: Parmec takes the maximum diagonal entry when M^-1 happens to be diagonal).
 // M^-1 sums part1's and, if body2 is given, part2's contributions. Throws if M^-1 is not positive.
-// fused: in the operation order and contraction of Parmec's eqm() ('order parmec').
+// fused: in the operation order and contraction of Parmec's eqm() ('order parmec'). parmec_eigenvalue (with
+// fused, for 'critical parmec'): a zero d takes Parmec's own eigenvalue formula, Q17 included, as its CRITICAL.
 double equivalent_mass(const BodyMass& body1, const Vec3& P1, const BodyMass* body2, const Vec3& P2, const Vec3& d,
-                       EqmArm arm = EqmArm::Correct, bool fused = false);
+                       EqmArm arm = EqmArm::Correct, bool fused = false, bool parmec_eigenvalue = false);
 
 }  // namespace dembridge::springs

@@ -53,7 +53,7 @@ FixParmecSpring::FixParmecSpring(LAMMPS *lmp, int narg, char **arg) :
     reader_(lmp, cmd_, state::DefinitionReader::kTable | state::DefinitionReader::kTseries |
                            state::DefinitionReader::kFile | state::DefinitionReader::kHistory |
                            state::DefinitionReader::kStart,
-            "spring", "table, tseries, spring, file, history, start, eqm, inertia, order or loops"),
+            "spring", "table, tseries, spring, file, history, start, eqm, critical, inertia, order or loops"),
     inertia_(lmp, cmd_)
 {
   if (narg < 4)
@@ -72,6 +72,10 @@ FixParmecSpring::FixParmecSpring(LAMMPS *lmp, int narg, char **arg) :
                 [this](const std::vector<std::string> &tok, std::size_t &i, const std::string &where) {
                   if (tok[i] == "eqm") {
                     q8_arm_ = reader_.choice(tok, i, where, {"correct", "parmec"}) == 1;
+                    return true;
+                  }
+                  if (tok[i] == "critical") {  // CRITICAL in Parmec's operation order and literals
+                    critical_parmec_ = reader_.choice(tok, i, where, {"lammps", "parmec"}) == 1;
                     return true;
                   }
                   if (tok[i] == "inertia") {  // CRITICAL with the bodies' inertia tensors (Parmec front end)

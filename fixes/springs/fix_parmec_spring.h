@@ -228,7 +228,8 @@ class FixParmecSpring : public state::PerAtomStateFix {
   void evaluate(Mode mode) override;
   void history_values(const double *rec, double *out) const override;
   void critical();
-  void warn_beyond_critical();  // WARNING at set-up when the timestep exceeds CRITICAL's estimate
+  void warn_beyond_critical();
+  bool critical_parmec_ = false;  // 'critical parmec': CRITICAL rounded as Parmec's kernels round it  // WARNING at set-up when the timestep exceeds CRITICAL's estimate
   // The body inertia of CRITICAL and of the ratio dashpots' EQM ('inertia NAME', else the sphere's)
   state::BodyInertia inertia_;
   double crit_[2] = {0.0, 0.0};

@@ -3,6 +3,7 @@
 #include "rank_error.h"
 #include "fix_parmec_spring_slot.h"
 
+#include "critical_parmec_order.h"
 #include "critical_step.h"
 #include "equivalent_mass.h"
 
@@ -11,6 +12,7 @@
 #include "error.h"
 #include "update.h"
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <unordered_map>
@@ -42,13 +44,14 @@ double FixParmecSpring::compute_array(int i, int j)
 
 void FixParmecSpring::critical()
 {
-  constexpr int kRec = 14;  // tag1 tag2 k_s e dir(3) planar arm1(3) arm2(3)
+  constexpr int kRec = 15;  // tag1 tag2 k_s e dir(3) planar arm1(3) arm2(3) spring index
   const double *rmass = atom->rmass_flag ? atom->rmass : nullptr;
   auto mass_of = [&](int i) { return rmass ? rmass[i] : atom->mass[atom->type[i]]; };
   auto body = [&](int i) {
     sp::BodyMass b;
     b.mass = mass_of(i);
-    b.inv_inertia = inertia_.inverse(i, b.mass);  // as Parmec's critical_perspring (its eqm's J⁻¹)
+    // as Parmec's critical_perspring (its eqm's J⁻¹); 'critical parmec': inverted with Parmec's rounding
+    b.inv_inertia = critical_parmec_ ? sp::parmec_order::inverse(inertia_.tensor(i, b.mass)) : inertia_.inverse(i, b.mass);
     return b;
   };
   sync_records();
@@ -71,11 +74,12 @@ void FixParmecSpring::critical()
           fail_on_this_rank(lmp, FLERR, fmt::format("{}: CRITICAL: spring {}: part2 atom {} is not available (run at least "
                                                     "'run 0' first, or raise 'comm_modify cutoff')", cmd_, d.id, d.tag2));
         const sp::BodyMass b2 = body(k);
-        m_s = sp::equivalent_mass(b1, d.arm1, &b2, d.arm2, zdir);
+        m_s = sp::equivalent_mass(b1, d.arm1, &b2, d.arm2, zdir, sp::EqmArm::Correct, critical_parmec_, critical_parmec_);
       } else {
-        m_s = sp::equivalent_mass(b1, d.arm1, nullptr, {0, 0, 0}, zdir);
+        m_s = sp::equivalent_mass(b1, d.arm1, nullptr, {0, 0, 0}, zdir, sp::EqmArm::Correct, critical_parmec_,
+                                  critical_parmec_);
       }
-      const sp::CriticalEstimate es = sp::spring_critical(d.law, m_s);
+      const sp::CriticalEstimate es = sp::spring_critical(d.law, m_s, critical_parmec_);
       hs = std::min(hs, es.step);
       const double row[4] = {double(records_.key(i, s)), es.step, es.omega, es.xi};
       mine_rows.insert(mine_rows.end(), row, row + 4);
@@ -83,7 +87,8 @@ void FixParmecSpring::critical()
       const sp::Vec3 adir = planar ? d.d : zdir;
       const double rec[kRec] = {double(d.tag1), double(d.tag2), d.law.spring->max_abs_slope(),
                                 sp::spring_max_damping(d.law, m_s), adir[0], adir[1], adir[2], planar ? 1.0 : 0.0,
-                                d.arm1[0], d.arm1[1], d.arm1[2], d.arm2[0], d.arm2[1], d.arm2[2]};
+                                d.arm1[0], d.arm1[1], d.arm1[2], d.arm2[0], d.arm2[1], d.arm2[2],
+                                double(records_.key(i, s))};
       mine.insert(mine.end(), rec, rec + kRec);
     }
   }
@@ -94,16 +99,20 @@ void FixParmecSpring::critical()
   std::vector<double> all(displs.back() + counts.back());
   MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, world);
 
+  // the springs in definition order (Parmec's spring order), whichever rank holds them: the sums per particle
+  // do not depend on the decomposition
+  std::vector<const double *> order;
+  for (std::size_t r = 0; r + kRec <= all.size(); r += kRec) order.push_back(&all[r]);
+  std::sort(order.begin(), order.end(), [](const double *a, const double *b) { return a[kRec - 1] < b[kRec - 1]; });
   std::unordered_map<tagint, sp::ParticleCritical> particles;
   std::unordered_map<tagint, int> owned;
   for (int i = 0; i < atom->nlocal; i++) owned[atom->tag[i]] = i;
-  for (std::size_t r = 0; r + kRec <= all.size(); r += kRec) {
-    const double *e = &all[r];
+  for (const double *e : order) {
     const sp::Vec3 dir{e[4], e[5], e[6]};
     for (int side = 0; side < 2; side++) {
       const tagint t = static_cast<tagint>(e[side]);
       if (t < 0 || !owned.count(t)) continue;
-      particles[t].add_spring(e[2], e[3], dir, e[7] != 0.0, {e[8 + 3 * side], e[9 + 3 * side], e[10 + 3 * side]});
+      particles.try_emplace(t, critical_parmec_).first->second.add_spring(e[2], e[3], dir, e[7] != 0.0, {e[8 + 3 * side], e[9 + 3 * side], e[10 + 3 * side]});
     }
   }
   double hp = INFINITY;

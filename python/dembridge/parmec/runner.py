@@ -136,7 +136,9 @@ class Runner:
             # 'order parmec': Parmec's spring arithmetic on fix parmec/rigid's Λ (both modes integrate with it;
             # a CRITICAL-only build has no integrator)
             order = "" if critical_only else " order parmec"
-            self.cmd(f"fix S all parmec/spring start parmec{order} inertia pmJ{' eqm parmec' if m.quirks else ''} "
+            # --parmec-quirks: Q8's arm in the ratio dashpots, CRITICAL rounded as Parmec's kernels round it
+            quirks = " eqm parmec critical parmec" if m.quirks else ""
+            self.cmd(f"fix S all parmec/spring start parmec{order} inertia pmJ{quirks} "
                      f"file {self.write('springs.def', self._springs())}")
         if m.torsions:
             # 'order parmec': the frames co-rotate with fix parmec/rigid's Λ (with Q3 not orthogonal, as Parmec's)

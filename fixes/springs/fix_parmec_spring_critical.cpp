@@ -148,6 +148,15 @@ void FixParmecSpring::critical()
 void FixParmecSpring::warn_beyond_critical()
 {
   if (defs_.empty()) return;
+  // CRITICAL needs every part2 as a local or ghost atom; where one is not (a partner reached otherwise), no check
+  int mapped = 1, all_mapped = 1;
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int s = 0; s < records_.count(i); s++) {
+      const SpringDef &d = defs_[records_.key(i, s)];
+      if (d.tag2 >= 0 && atom->map(d.tag2) < 0) mapped = 0;
+    }
+  MPI_Allreduce(&mapped, &all_mapped, 1, MPI_INT, MPI_MIN, world);
+  if (!all_mapped) return;
   critical();
   crit_step_ = update->ntimestep;
   const double h = crit_[1] < DBL_MAX ? crit_[1] : crit_[0];  // per particle (CRITICAL()), else per spring

@@ -43,6 +43,8 @@ const char* kUsage =
     "  --accept-timeout S  --io-timeout S   (default 30 each; <= 0 waits forever like MBDyn)\n"
     "  --fault none|garbage-command|short-then-close|short-then-stall|nan|die  --fault-message K\n"
     "  --trajectory FILE        write t, then per node x y z vx vy vz theta theta_dot\n"
+    "  --file-in IN --file-out OUT [--file-precision P (16)]   MBDyn's file communicator instead of the\n"
+    "                           socket (loose, send after predict no; orientation none or matrix)\n"
     "  --kinematics-log FILE    one line per kinematics message: index, command, then per point\n"
     "                           x(3) R(9, row by row) v(3) w(3), global frame\n";
 
@@ -170,12 +172,21 @@ int main(int argc, char** argv) {
     } else if (a == "--fault-message") s.fault_message = static_cast<int>(parse_integer(a, value(), 0, INT_MAX));
     else if (a == "--trajectory") trajectory_file = value();
     else if (a == "--kinematics-log") s.kinematics_log = value();
+    else if (a == "--file-in") s.files.in_path = value();
+    else if (a == "--file-out") s.files.out_path = value();
+    else if (a == "--file-precision") s.files.precision = static_cast<int>(parse_integer(a, value(), 1, 17));
     else if (a == "--help" || a == "-h") {
       std::cout << kUsage;
       return 0;
     } else usage_error("unknown option " + a);
   }
-  if (s.place.unix_path.empty() && s.place.tcp_port < 0) usage_error("give --path or --port");
+  const bool files = !s.files.in_path.empty() || !s.files.out_path.empty();
+  if (files && (s.files.in_path.empty() || s.files.out_path.empty())) usage_error("give both --file-in and --file-out");
+  if (files && (s.coupling != CouplingMode::Loose || s.shape.reference_node || s.shape.accelerations ||
+                (s.shape.orientation != Orientation::None && s.shape.orientation != Orientation::Matrix)))
+    usage_error("the file communicator is loose, without reference node or accelerations, orientation none or matrix");
+  s.files.timeout_s = s.io_timeout_s > 0 ? s.io_timeout_s : 1e9;
+  if (!files && s.place.unix_path.empty() && s.place.tcp_port < 0) usage_error("give --path or --port");
   if (s.model.multistep && s.model.hinged) usage_error("--method ms does not integrate a --hinge body");
   if (s.model.rho < 0 || s.model.rho > 1) usage_error("--rho expects a spectral radius from 0 to 1");
   if (s.place.tcp_port >= 0 && s.place.tcp_port != 0 && s.place.tcp_port <= 5000)

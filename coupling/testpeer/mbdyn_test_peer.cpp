@@ -35,6 +35,11 @@ class PeerRun {
 
   PeerOutcome run() {
     try {
+      if (!s_.files.in_path.empty()) {
+        run_files();
+        finish({0, "End of simulation", false});
+        return out_;
+      }
       connect();
       negotiate();
       switch (s_.coupling) {
@@ -346,6 +351,40 @@ class PeerRun {
       }
       model_.accept(iterate);
       record(k * s_.dt);
+    }
+  }
+
+  void write_out(const std::vector<BodyState>& bodies) {
+    last_sent_ = bodies;
+    const std::string err = write_out_file(s_.files, s_.shape, wire_nodes(bodies));
+    if (!err.empty()) throw RunEnds{1, err, false};
+    ++out_.kinematics_sent;
+  }
+
+  void read_in() {
+    LoadsMessage m;
+    const std::string err = read_in_file(s_.files, s_.shape, m);
+    if (!err.empty()) throw RunEnds{1, err, false};
+    out_.answers.push_back(6);
+    for (std::size_t i = 0; i < m.force.size(); ++i) {
+      loads_.force[i] = m.force[i];
+      loads_.moment_z[i] = rotates() ? model_.node_moment_z(i, last_sent_[i], m.force[i], m.moment[i]) : 0.0;
+    }
+    out_.last_loads = m;
+  }
+
+  void run_files() {
+    write_out(model_.state());
+    read_in();  // the initial-derivatives solve
+    if (model_.residual_norm(model_.state(), loads_, false) > s_.derivatives_tolerance)
+      model_.derivatives_update(loads_, s_.dt);
+    write_out(model_.state());  // after the derivatives (x0, v0 restored)
+    record(0.0);
+    for (int k = 1; k <= s_.steps; ++k) {
+      read_in();  // at the step's first residual
+      model_.accept(converge_with_frozen_loads(model_.predict(s_.dt)));
+      record(k * s_.dt);
+      write_out(model_.state());
     }
   }
 

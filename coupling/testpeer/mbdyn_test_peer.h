@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "oscillator_model.h"
+#include "testpeer_files.h"
 #include "testpeer_socket.h"
 #include "testpeer_wire.h"
 
@@ -47,6 +48,10 @@ struct PeerSetup {
   int fault_message = 1;
   std::string kinematics_log;  // if set: one line per kinematics message sent (see main.cpp)
   std::function<void(int port)> on_listening;  // called once listening (TCP port if any)
+  // File communicator instead of the socket (loose, `send after predict, no`): when files.in_path
+  // is set. OUT at t0, IN read by the derivatives, OUT again after them, then per step: IN read
+  // at the step's start, OUT of the converged state (the recorded real run's sequence).
+  PeerFiles files;
 };
 
 struct PeerSample {

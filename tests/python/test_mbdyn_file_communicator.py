@@ -5,16 +5,18 @@ a player writes each recorded OUT as MBDyn does (OUT.dat.tmp renamed to OUT.dat,
 previous OUT is gone: `no clobber`) and takes each IN the fix writes (then removes it: `unlink`).
 The split spring-mass deck (k = 50, c = 0.4 in LAMMPS, the recording peer's law) must answer the
 recorded IN files to <= 1e-12 of the largest force. Also: the fix never overwrites an IN it finds,
-times out naming the file, and every new keyword's bad value is an ERROR naming it."""
+times out naming the file, and every new keyword's bad value is an ERROR naming it. And the test
+peer's file mode (MBDyn's side), given the recorded IN files, writes the recorded OUT files."""
 import os
 import re
+import subprocess
 import threading
 import time
 
 import pytest
 
 from dembridge import plugin_path
-from test_fix_mbdyn import error_line, run_lammps, spring_mass_deck
+from test_fix_mbdyn import PEER, error_line, run_lammps, spring_mass_deck
 
 pytestmark = pytest.mark.skipif(not os.path.exists(plugin_path()), reason="needs the plugin (build dembridgeplugin)")
 
@@ -160,3 +162,39 @@ def test_malformed_out_file_is_an_error_naming_file_and_line(folder, text, expec
     err = error_line(out)
     assert rc != 0
     assert "Fix mbdyn (id M)" in err and expect in err, err
+
+
+@pytest.mark.skipif(PEER is None, reason="needs the mbdyn_testpeer executable (build it)")
+def test_test_peer_file_mode_replays_the_recorded_out_files(folder):
+    seq = read_sequence()
+    outs = [numbers(t) for k, _, t in seq if k == "OUT"]
+    ins = [t for k, _, t in seq if k == "IN"]
+    out, inp = os.path.join(folder, "OUT.dat"), os.path.join(folder, "IN.dat")
+    peer = subprocess.Popen([PEER, "--file-in", inp, "--file-out", out, "--nodes", "1", "--orientation", "none",
+                             "--steps", "25", "--dt", "0.004", "--mass", "2", "--x0", "0.1,0,0", "--v0", "0,0,0",
+                             "--tolerance", "1e-9", "--derivatives-tolerance", "1e-6", "--io-timeout", "20"],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    got = []
+    try:
+        for text in ins:  # the recording peer's side: read OUT, remove it, answer IN (tmp + rename)
+            t_end = time.monotonic() + 20
+            while not os.path.exists(out):
+                assert time.monotonic() < t_end and peer.poll() is None, "the test peer wrote no OUT.dat"
+                time.sleep(0.001)
+            got.append(numbers(open(out).read()))
+            os.unlink(out)
+            open(inp + ".tmp", "w").write(text)
+            os.rename(inp + ".tmp", inp)
+        log, _ = peer.communicate(timeout=20)
+    finally:
+        if peer.poll() is None:
+            peer.kill()
+    assert peer.returncode == 0, log
+    assert len(got) == len(outs) == 27
+    xs = max(abs(v) for o in outs for v in o[0:3])
+    vs = max(abs(v) for o in outs for v in o[3:6])
+    worst = max(max(max(abs(a - b) for a, b in zip(g[0:3], o[0:3])) / xs,
+                    max(abs(a - b) for a, b in zip(g[3:6], o[3:6])) / vs) for g, o in zip(got, outs))
+    print(f"test peer file mode: 27 OUT files, worst deviation from the recorded ones {worst:.1e} of each field's largest value")
+    assert worst <= 1e-12
+    assert os.path.exists(inp)  # the last answer is never read, as with MBDyn

@@ -74,14 +74,15 @@ def folder(tmp_path):
     return str(tmp_path)
 
 
-def test_fix_mbdyn_answers_the_recorded_in_files(folder):
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_fix_mbdyn_answers_the_recorded_in_files(folder, nprocs):
     seq = read_sequence()
     outs = [t for k, _, t in seq if k == "OUT"]
     expected = [numbers(t) for k, _, t in seq if k == "IN"]
     assert len(outs) == len(expected) == 27
     player = RecordedMbdynFiles(folder, outs)
     t0 = time.monotonic()
-    rc, out, _ = run_lammps(file_deck(folder, len(outs) - 1), folder, timeout=120)
+    rc, out, _ = run_lammps(file_deck(folder, len(outs) - 1), folder, nprocs=nprocs, timeout=120)
     player.join(60)
     secs = time.monotonic() - t0
     assert player.error is None, (player.error, out[-3000:])
@@ -90,7 +91,7 @@ def test_fix_mbdyn_answers_the_recorded_in_files(folder):
     assert [len(g) for g in got] == [3] * 27
     scale = max(abs(v) for e in expected for v in e)
     worst = max(abs(a - b) for g, e in zip(got, expected) for a, b in zip(g, e))
-    print(f"file communicator: {len(got)} IN files in {secs:.2f} s, worst deviation from the recorded IN "
+    print(f"file communicator, {nprocs} rank(s): {len(got)} IN files in {secs:.2f} s, worst deviation from the recorded IN "
           f"{worst / scale:.1e} of the largest force {scale}")
     assert worst <= 1e-12 * scale
     assert not os.path.exists(os.path.join(folder, "IN.dat.tmp"))

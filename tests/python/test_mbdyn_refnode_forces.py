@@ -143,8 +143,8 @@ def sockdir():
     shutil.rmtree(d, ignore_errors=True)
 
 
-@pytest.mark.parametrize("coupling", ["loose", "tight"])
-def test_fix_mbdyn_answers_the_recorded_refnode_loads(coupling, sockdir):
+@pytest.mark.parametrize("coupling,nprocs", [("loose", 1), ("tight", 1), ("loose", 2)])
+def test_fix_mbdyn_answers_the_recorded_refnode_loads(coupling, nprocs, sockdir):
     rows = read(f"transcript_{coupling}.csv.gz")
     steps = sum(1 for _, d, c, _ in rows if d == "peer->mbdyn" and c == 6) - 1  # minus the start-up answer
     sock = os.path.join(sockdir, "r.sock")
@@ -153,7 +153,7 @@ def test_fix_mbdyn_answers_the_recorded_refnode_loads(coupling, sockdir):
     # on this run that is a change of the global pose <= 4.4e-16 (converged) against >= 7.4e-14
     extra = "tolerance 1e-14" if coupling == "tight" else ""
     rc, out, secs = run_lammps(DECK.format(springs=springs(), sock=sock, coupling=coupling, extra=extra, steps=steps),
-                               sockdir, timeout=300)
+                               sockdir, nprocs=nprocs, timeout=300)
     mbdyn.join(120)
     assert mbdyn.error is None, (mbdyn.error, out[-3000:])
     assert rc == 0, out[-3000:]
@@ -170,7 +170,7 @@ def test_fix_mbdyn_answers_the_recorded_refnode_loads(coupling, sockdir):
         worst = max(max(abs(x - y) for x, y in zip(g[a:b], e[a:b])) for g, e in data)
         report.append(f"{name} {worst / scale if scale else worst:.1e}" + ("" if scale else " (absolute)"))
         assert worst <= 1e-12 * (scale if scale else 1.0), (name, worst, scale)
-    print(f"refnode {coupling}: {len(data)} answers in {secs:.1f} s; worst deviation per field "
+    print(f"refnode {coupling}, {nprocs} rank(s): {len(data)} answers in {secs:.1f} s; worst deviation per field "
           f"(relative to its largest value): {', '.join(report)}")
 
 

@@ -199,3 +199,32 @@ def test_test_peer_file_mode_replays_the_recorded_out_files(folder):
     print(f"test peer file mode: 27 OUT files, worst deviation from the recorded ones {worst:.1e} of each field's largest value")
     assert worst <= 1e-12
     assert os.path.exists(inp)  # the last answer is never read, as with MBDyn
+
+
+@pytest.mark.skipif(PEER is None, reason="needs the mbdyn_testpeer executable (build it)")
+def test_coupled_over_files_reproduces_the_real_mbdyn_trajectory(folder):
+    """fix mbdyn and the test peer coupled over the two files, neither side waiting in lockstep: the
+    peer's node trajectory equals the real MBDyn's file.mov of the recorded run."""
+    out, inp = os.path.join(folder, "OUT.dat"), os.path.join(folder, "IN.dat")
+    traj = os.path.join(folder, "traj.txt")
+    peer = subprocess.Popen([PEER, "--file-in", inp, "--file-out", out, "--nodes", "1", "--orientation", "none",
+                             "--steps", "25", "--dt", "0.004", "--mass", "2", "--x0", "0.1,0,0", "--v0", "0,0,0",
+                             "--tolerance", "1e-9", "--derivatives-tolerance", "1e-6", "--io-timeout", "30",
+                             "--trajectory", traj], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        rc, lmp_out, secs = run_lammps(file_deck(folder, 26), folder, timeout=120)
+        log, _ = peer.communicate(timeout=30)
+    finally:
+        if peer.poll() is None:
+            peer.kill()
+    assert rc == 0, lmp_out[-3000:]
+    assert peer.returncode == 0, log
+    mov = [[float(v) for v in l.split()] for l in open(os.path.join(DATA, "file.mov")) if l.strip()]
+    rows = [[float(v) for v in l.split()] for l in open(traj) if not l.startswith("#")]
+    assert len(rows) == len(mov) == 26
+    # file.mov: label x y z phi(3) v(3) w(3); the trajectory: t x y z v(3) theta theta_dot
+    worst = max(max(abs(r[1 + c] - m[1 + c]) for c in range(3)) for r, m in zip(rows, mov))
+    worst_v = max(max(abs(r[4 + c] - m[7 + c]) for c in range(3)) for r, m in zip(rows, mov))
+    print(f"coupled over files: {secs:.2f} s; max |x - x_MBDyn| {worst:.1e}, max |v - v_MBDyn| {worst_v:.1e}")
+    assert worst <= 1e-12 and worst_v <= 1e-12
+    assert os.path.exists(inp)  # the answer to MBDyn's last OUT stays unread, as in the recorded run

@@ -330,6 +330,9 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
   tight_ = o.coupling == mb::Coupling::Tight;
   if (file_) {
     if (tight_) error->all(FLERR, prefix + "'file IN OUT' supports coupling loose only");
+    if (correct_predictor_)
+      error->all(FLERR, prefix + "'predictor correct' needs a socket: over 'file IN OUT' MBDyn sends converged states, "
+                                 "not predictions");
     if (o.nodal.reference_node) error->all(FLERR, prefix + "'file IN OUT' does not support 'reference_node yes'");
     if (file_->in_path == file_->out_path)
       error->all(FLERR, prefix + "'file IN OUT': IN and OUT are the same file '" + file_->in_path + "'");

@@ -126,6 +126,8 @@ BAD = {
     "precision_big": ("precision 16", "precision 40", ["keyword 'precision' expects digits (1 to 17)", "40"], False),
     "precision_word": ("precision 16", "precision high", ["keyword 'precision' expects digits (1 to 17)", "'high'"], False),
     "file_tight": ("io_timeout 20", "io_timeout 20 coupling tight", ["'file IN OUT' supports coupling loose only"], False),
+    "file_predictor": ("io_timeout 20", "io_timeout 20 predictor correct",
+                       ["'predictor correct' needs a socket", "converged states"], False),
     "file_refnode": ("io_timeout 20", "io_timeout 20 reference_node yes", ["'file IN OUT' does not support 'reference_node yes'"], False),
     "sleep_without_file": ("file {d}/IN.dat {d}/OUT.dat sleep 0.002 precision 16", "path x.sock sleep 1",
                            ["'sleep' and 'precision' are for the file communicator"], False),

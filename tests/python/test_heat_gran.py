@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from dembridge import new_lammps
+from dembridge.liggghts_deck import translate_text
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tests" / "oracle"))
@@ -90,8 +91,9 @@ def test_heat_source_adds_q_times_t_to_the_thermal_energy():
 
 
 def lammps_deck(deck):
-    text = deck.replace("property/atom Temp", "d_Temp").replace("property/atom heatSource", "d_heatSource")
-    return oh.liggghts_to_lammps_deck(text, syntax="3x")
+    """The deck as dembridge-liggghts runs it (its translation: atom_style, communicate, dump_modify format,
+    set ... property/atom NAME -> d_NAME), after a plugin load line."""
+    return f"plugin load {oh.plugin_path()}\n" + translate_text(deck, "in.liggghts", notes=False).text
 
 
 def read_frames(path):

@@ -73,14 +73,7 @@ FixInsertPack::FixInsertPack(LAMMPS *lmp, int narg, char **arg) :
     }
     if (k_.start >= 0 && k_.start < update->ntimestep + 1)
       throw std::invalid_argument("'start' step can not be before current step");
-    std::vector<int> seeds = {k_.seed, dist_->seed()};
-    seeds.insert(seeds.end(), dist_->template_seeds().begin(), dist_->template_seeds().end());
-    std::sort(seeds.begin(), seeds.end());
-    if (std::adjacent_find(seeds.begin(), seeds.end()) != seeds.end())
-      throw std::invalid_argument("Random number generation: It is required that all the random seeds of this fix "
-                                  "insert/*, the random seed of particle distribution fix (id " +
-                                  std::string(dist_->id) + ") and all random seeds of its fix particletemplate/* "
-                                  "commands are different");
+    dist_->check_seeds_differ(k_.seed);
     if (k_.all_in) {
       const double r = dist_->distribution().max_radius();
       LammpsRegionView view(region_);
@@ -270,9 +263,7 @@ void *FixInsertPack::extract(const char *name, int &type)
   if (std::string(name) != "radius") return nullptr;
   dist_ = FixParticleDistribution::find(lmp, k_.distribution);  // pair styles ask before this fix's init
   if (!dist_) return nullptr;
-  extract_radius_ = 0.0;
-  for (const auto &t : dist_->distribution().templates())
-    if (t.type == type) extract_radius_ = std::max(extract_radius_, t.radius);
+  extract_radius_ = dist_->max_radius_of_type(type);
   type = 0;
   return &extract_radius_;
 }

@@ -1,5 +1,8 @@
 #include "fix_particle_distribution.h"
 
+#include <algorithm>
+#include <stdexcept>
+
 #include "comm.h"
 #include "error.h"
 #include "modify.h"
@@ -58,6 +61,26 @@ FixParticleDistribution::FixParticleDistribution(LAMMPS *lmp, int narg, char **a
   dist_ = std::make_unique<insertion::DiscreteDistribution>(templates, weights, mass_based);
   if (dist_->normalised() && comm->me == 0)
     error->warning(FLERR, "particledistribution/discrete: sum of distribution weights != 1, normalizing distribution");
+}
+
+double FixParticleDistribution::max_radius_of_type(int type) const
+{
+  double r = 0.0;
+  for (const auto &t : dist_->templates())
+    if (t.type == type) r = std::max(r, t.radius);
+  return r;
+}
+
+void FixParticleDistribution::check_seeds_differ(int insert_seed) const
+{
+  std::vector<int> seeds = {insert_seed, seed_};
+  seeds.insert(seeds.end(), template_seeds_.begin(), template_seeds_.end());
+  std::sort(seeds.begin(), seeds.end());
+  if (std::adjacent_find(seeds.begin(), seeds.end()) != seeds.end())
+    throw std::invalid_argument("Random number generation: It is required that all the random seeds of this fix "
+                                "insert/*, the random seed of particle distribution fix (id " +
+                                std::string(id) + ") and all random seeds of its fix particletemplate/* "
+                                "commands are different");
 }
 
 FixParticleDistribution *FixParticleDistribution::find(LAMMPS *lmp, const std::string &id)

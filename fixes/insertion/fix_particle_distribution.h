@@ -24,6 +24,12 @@ class FixParticleDistribution : public LAMMPS_NS::Fix {
   // group bits an inserted particle joins: this fix's and its templates' (per template index)
   int groupbit_of(int itemplate) const { return groupbit | template_groupbits_[itemplate]; }
   const std::vector<std::string> &template_ids() const { return template_ids_; }
+  // The largest radius of the templates of atom type `type` (0 if none): pair styles size their
+  // neighbour cut-off with it before the particles exist.
+  double max_radius_of_type(int type) const;
+  // Throws std::invalid_argument unless insert_seed, this fix's seed and its templates' all differ
+  // (LIGGGHTS's check, same message).
+  void check_seeds_differ(int insert_seed) const;
   // nullptr if `id` is not a particledistribution/discrete fix
   static FixParticleDistribution *find(LAMMPS_NS::LAMMPS *lmp, const std::string &id);
 

@@ -157,4 +157,41 @@ void parse_pack_keywords(const std::vector<std::string> &a, int i, PackKeywords 
   }
 }
 
+void parse_stream_keywords(const std::vector<std::string> &a, int i, StreamKeywords &s)
+{
+  const int n = static_cast<int>(a.size());
+  while (i < n) {
+    const std::string &key = a[i];
+    if (key == "insertion_face") {
+      need(a, i, 2, "a fix mesh/surface ID");
+      s.face = a[i + 1];
+    } else if (key == "extrude_length") {
+      need(a, i, 2, "a length");
+      s.extrude_length = number_arg(a[i + 1], key);
+      if (s.extrude_length <= 0.) throw std::invalid_argument("invalid extrude_length " + a[i + 1] + " (expected > 0)");
+    } else if (key == "duration") {
+      need(a, i, 2, "a number of steps");
+      s.duration = integer_arg(a[i + 1], key);
+      if (s.duration < 1) throw std::invalid_argument("'duration' can not be < 1, got " + a[i + 1]);
+    } else if (key == "ntry_mc") {
+      need(a, i, 2, "an integer");
+      s.ntry_mc = integer_arg(a[i + 1], key);
+      if (s.ntry_mc < 1000) throw std::invalid_argument("ntry_mc must be > 1000, got " + a[i + 1]);
+    } else if (key == "parallel") {
+      need(a, i, 2, "yes or no");
+      if (yes_no_arg(a[i + 1], key))
+        throw std::invalid_argument("'parallel yes' is not supported by dembridge (every rank draws the whole "
+                                    "extrusion volume, as 'parallel no')");
+    } else if (is_general_keyword(key)) {
+      throw std::invalid_argument("unknown keyword or wrong keyword order: '" + key +
+                                  "' at this place: LIGGGHTS 3.8 needs the general keywords (" + key +
+                                  ", vel, insert_every, ...) before insertion_face, extrude_length, duration "
+                                  "and ntry_mc");
+    } else {
+      throw std::invalid_argument("unknown keyword '" + key + "'");
+    }
+    i += 2;
+  }
+}
+
 }  // namespace dembridge::insertion

@@ -35,11 +35,20 @@ struct PackKeywords {
   bool warn_region = true, check_border = true;
 };
 
+struct StreamKeywords {
+  std::string face;             // insertion_face: a fix mesh/surface ID
+  double extrude_length = 0.0;  // 0: not given
+  int duration = 0;             // 0: not given (= insert_every)
+  int ntry_mc = 100000;
+};
+
 // args[0..2] = ID group style; args[3] must be "seed". Parses seed and the general keywords,
 // returns the index of the first keyword that is not one of them. Throws std::invalid_argument.
 int parse_general_keywords(const std::vector<std::string> &args, InsertKeywords &k);
 // The keywords of insert/pack and insert/rate/region from index i to the end.
 void parse_pack_keywords(const std::vector<std::string> &args, int i, PackKeywords &p);
+// The keywords of insert/stream from index i to the end.
+void parse_stream_keywords(const std::vector<std::string> &args, int i, StreamKeywords &s);
 // true for a keyword of parse_general_keywords (to explain a keyword-order error)
 bool is_general_keyword(const std::string &key);
 

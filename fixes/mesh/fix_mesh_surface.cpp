@@ -408,6 +408,9 @@ static void *create_fix_mesh_surface(void *lmp, int narg, char **arg)
 }
 static RegisterStyle reg_fix_mesh_surface("fix", "mesh/surface", "LIGGGHTS-compatible STL mesh wall",
                                           create_fix_mesh_surface);
+static RegisterStyle reg_fix_mesh_surface_planar("fix", "mesh/surface/planar",
+                                                 "LIGGGHTS-compatible STL mesh wall (a planar face, e.g. for insertion)",
+                                                 create_fix_mesh_surface);
 static RegisterStyle reg_fix_mesh_surface_stress("fix", "mesh/surface/stress",
                                                  "LIGGGHTS-compatible STL mesh wall with force/torque output",
                                                  create_fix_mesh_surface);

@@ -7,6 +7,7 @@ Every frame (the insertion steps and the steps after) must hold the same particl
 mass, x, v, omega compared with == (tolerance 0). The inserted particles must not overlap each other,
 the particles there before, or the primitive walls."""
 import re
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +17,7 @@ import oracle_harness as oh
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "liggghts-insertion"
 DECKS = sorted(p.name[3:] for p in DATA.glob("in.*"))
+MESHES = sorted(DATA.glob("*.stl"))  # the insertion faces of the insert/stream decks
 COLUMNS = ["type", "radius", "mass", "x", "y", "z", "vx", "vy", "vz", "omegax", "omegay", "omegaz"]
 
 
@@ -35,6 +37,8 @@ def liggghts_frames(tmp_path_factory):
         case = wd / "case"
         case.mkdir()
         (case / "in.liggghts").write_text((DATA / ("in." + name)).read_text())
+        for m in MESHES:
+            shutil.copyfile(m, case / m.name)
         out[name] = oh.read_dump(oh.run_liggghts(case, wd / "run"))
     return out
 
@@ -83,7 +87,7 @@ def assert_no_overlap(frames, label):
 @pytest.mark.parametrize("name", DECKS)
 def test_insertion_bit_identical_one_rank(name, liggghts_frames, tmp_path):
     deck = (DATA / ("in." + name)).read_text()
-    got = oh.read_dump(oh.run_lammps(lammps_deck(deck), tmp_path))
+    got = oh.read_dump(oh.run_lammps(lammps_deck(deck), tmp_path, files=MESHES))
     assert_same_frames(liggghts_frames[name], got, name)
     assert max(len(f.ids) for f in got.values()) > 0
     if "no_overlapcheck" not in name:
@@ -94,9 +98,11 @@ def test_insertion_bit_identical_one_rank(name, liggghts_frames, tmp_path):
 @pytest.mark.plugin
 @pytest.mark.parametrize("name,nprocs", [("pack_volfrac_two_templates", 2), ("pack_count_every", 2),
                                          ("pack_mass_three_templates", 4),
-                                         ("rate_region_two_templates", 2)])
+                                         ("rate_region_two_templates", 2),
+                                         ("stream_extrude_two_templates", 2),
+                                         ("stream_mass_every_all_in", 2), ("stream_no_overlapcheck_shrink", 4)])
 def test_insertion_rank_invariant(name, nprocs, liggghts_frames, tmp_path):
     """On 2 and 4 ranks the plugin inserts LIGGGHTS's one-rank particles (LIGGGHTS itself does not)."""
     deck = (DATA / ("in." + name)).read_text()
-    got = oh.read_dump(oh.run_lammps(lammps_deck(deck), tmp_path, nprocs=nprocs))
+    got = oh.read_dump(oh.run_lammps(lammps_deck(deck), tmp_path, nprocs=nprocs, files=MESHES))
     assert_same_frames(liggghts_frames[name], got, f"{name} on {nprocs} ranks")

@@ -1,6 +1,9 @@
-"""Bad input to fix particletemplate/sphere, particledistribution/discrete, insert/pack and insert/rate/region: a LAMMPS
+"""Bad input to fix particletemplate/sphere, particledistribution/discrete, insert/pack, insert/rate/region and
+insert/stream: a LAMMPS
 ERROR naming the command and the argument (LIGGGHTS 3.8's message where it has one). One fresh LAMMPS
 instance per case, in-process."""
+from pathlib import Path
+
 import pytest
 
 from dembridge import new_lammps
@@ -21,14 +24,31 @@ GOOD = BASE + [T1, T2, D, I, "fix nve all nve/sphere", "run 1"]
 RATE = "fix ins all insert/rate/region seed 32452867 distributiontemplate pdd1 nparticles 50 particlerate 1000 " \
        "insert_every 100 all_in yes region ins"
 
+FACES = Path(__file__).resolve().parents[1] / "data" / "liggghts-insertion"
+FACE = f"fix face all mesh/surface file {FACES / 'stream_face.stl'} type 1"
+STREAM = "fix ins all insert/stream seed 32452867 distributiontemplate pdd1 nparticles 20 particlerate 1000 " \
+         "vel constant 0 0 -1 insertion_face face extrude_length 0.03"
+
 TPL = "Fix particletemplate/sphere (id pts1)"
 PDD = "Fix particledistribution/discrete (id pdd1)"
 INS = "Fix insert/pack (id ins)"
 RATE_ID = "Fix insert/rate/region (id ins)"
+STR = "Fix insert/stream (id ins)"
 
 
 def swap(old, new, lines=GOOD):
     return [new if line == old else line for line in lines]
+
+
+STREAM_GOOD = swap(I, FACE + "\n" + STREAM)
+STREAM_GOOD = [x for line in STREAM_GOOD for x in line.split("\n")]
+
+
+def stream(old, new, lines=None):
+    """The insert/stream deck with one change in the insert/stream line (or another line)."""
+    lines = STREAM_GOOD if lines is None else lines
+    out = swap(STREAM if old is None else old, STREAM.replace(*new) if old is None else new, lines)
+    return [x for line in out for x in line.split("\n")]
 
 
 CASES = {
@@ -121,6 +141,44 @@ CASES = {
     "insert_atom_style_atomic": (swap("atom_style sphere", "atom_style atomic")[:5] + ["mass 1 1.0"] +
                                  swap("fix nve all nve/sphere", "fix nve all nve")[5:],
                                  [INS, "requires atom attributes radius, rmass, omega"]),
+    # fix insert/stream
+    "stream_every_and_extrude": (stream(None, ("vel constant", "insert_every 100 vel constant")),
+                                 [STR, "must not provide both 'insert_every' and 'extrude_length'"]),
+    "stream_neither_every_nor_extrude": (stream(None, (" extrude_length 0.03", "")),
+                                         [STR, "must define either 'insert_every' or 'extrude_length'"]),
+    "stream_nparticles_and_mass": (stream(None, ("nparticles 20", "nparticles 20 mass 0.1")),
+                                   [STR, "must not define both 'nparticles' and 'mass'"]),
+    "stream_nparticles_inf": (stream(None, ("nparticles 20", "nparticles INF")), [STR, "does not accept INF"]),
+    "stream_no_rate": (stream(None, ("particlerate 1000 ", "")), [STR, "must define either 'massrate' or 'particlerate'"]),
+    "stream_all_in_needs_planar": (stream(None, ("vel constant", "all_in yes vel constant")),
+                                   [STR, "all_in yes requires you to use a fix mesh/surface/planar", "fix face"]),
+    "stream_velocity_in_face_plane": (stream(None, ("vel constant 0 0 -1", "vel constant 1 0 0")),
+                                      [STR, "insertion velocity projected on face normal is < 1e-3"]),
+    "stream_extrude_too_small": (stream(None, ("extrude_length 0.03", "extrude_length 0.01")),
+                                 [STR, "'extrude_length' is too small", "0.008"]),
+    "stream_every_too_short": (stream(None, ("vel constant 0 0 -1 insertion_face face extrude_length 0.03",
+                                             "insert_every 10 vel constant 0 0 -1 insertion_face face")),
+                               [STR, "'insert_every' or 'vel' is too small"]),
+    "stream_keyword_order": (stream(None, ("vel constant 0 0 -1 insertion_face face",
+                                           "insertion_face face vel constant 0 0 -1")),
+                             [STR, "wrong keyword order", "'vel'"]),
+    "stream_no_face": (stream(None, ("insertion_face face ", "")), [STR, "must define an insertion face"]),
+    "stream_face_not_a_mesh": (stream(None, ("insertion_face face", "insertion_face g")),
+                               [STR, "insertion_face", "fix 'g' is a fix gravity, not a mesh"]),
+    "stream_face_unknown": (stream(None, ("insertion_face face", "insertion_face nope")),
+                            [STR, "mesh ID 'nope' does not exist"]),
+    "stream_face_not_planar": (stream(FACE, FACE.replace("stream_face.stl", "bent_face.stl")),
+                               [STR, "requires a planar face for insertion", "triangle 2"]),
+    "stream_insert_every_once": (stream(None, ("vel constant", "insert_every once vel constant")),
+                                 [STR, "must not define 'particlerate' or 'massrate' for 'insert_every' = once"]),
+    "stream_parallel_yes": (stream(None, ("extrude_length 0.03", "extrude_length 0.03 parallel yes")),
+                            [STR, "'parallel yes' is not supported"]),
+    "stream_duration_with_extrude": (stream(None, ("extrude_length 0.03", "extrude_length 0.03 duration 10")),
+                                     [STR, "must not provide both 'extrude_length' and 'duration'"]),
+    "stream_moving_face": (stream("fix nve all nve/sphere", "fix mv all move/mesh mesh face linear 0 0 0.1\n"
+                                  "fix nve all nve/sphere"),
+                           [STR, "cannot translate, rotate, scale mesh which is used for particle insertion"]),
+    "stream_seed_shared": (stream(None, ("seed 32452867", "seed 32452843")), [STR, "seeds", "are different"]),
 }
 
 
@@ -149,3 +207,4 @@ def test_bad_insertion_input_gives_error(name):
 def test_good_insertion_deck_runs():
     assert run_lines(GOOD) is None
     assert run_lines(swap(I, RATE)) is None
+    assert run_lines(STREAM_GOOD) is None

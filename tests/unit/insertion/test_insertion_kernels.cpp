@@ -5,6 +5,7 @@
 #include "park_miller.h"
 #include "region_sampling.h"
 #include "seed_rule.h"
+#include "stream_insertion.h"
 
 #include <gtest/gtest.h>
 
@@ -153,4 +154,38 @@ TEST(InsertKeywords, GeneralKeywordsMustComeFirst)
   InsertKeywords k2;
   PackKeywords p2;
   EXPECT_THROW(parse_pack_keywords(late, parse_general_keywords(late, k2), p2), std::invalid_argument);
+}
+
+// insert/stream's face sampling: the triangle picked by accumulated area (1 uniform), then (u,v)
+// redrawn until u + v <= 1, point (1-u-v) n0 + v n1 + u n2 -- recomputed here from the raw stream.
+TEST(StreamFace, DrawIsAreaPickThenRejectedBarycentric)
+{
+  const std::vector<Triangle> tris = {{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}}, {{{0, 0, 0}, {0, 3, 0}, {-1, 0, 0}}}};
+  StreamFace face(tris, {0.5, 1.5}, {7u, 7u});
+  ParkMiller a(179424799), ref(179424799);
+  for (int k = 0; k < 200; ++k) {
+    double p[3];
+    const int t = face.draw(a, p);
+    const double r = ref.uniform() * 2.0;
+    EXPECT_EQ(t, r <= 0.5 ? 0 : 1);
+    double u, v;
+    do {
+      u = ref.uniform();
+      v = ref.uniform();
+    } while (u + v > 1);
+    for (int c = 0; c < 3; ++c)
+      EXPECT_EQ(p[c], (1. - u - v) * tris[t][0][c] + v * tris[t][1][c] + u * tris[t][2][c]);
+  }
+}
+
+TEST(StreamFace, SegmentDistanceAndBoxTest)
+{
+  const double a[3] = {0, 0, 0}, b[3] = {2, 0, 0};
+  const double p1[3] = {1, 3, 4}, p2[3] = {5, 4, 0};
+  EXPECT_DOUBLE_EQ(distance_to_segment(p1, a, b), 5.0);
+  EXPECT_DOUBLE_EQ(distance_to_segment(p2, a, b), 5.0);  // beyond the end: to the end point
+  const Box box{{0, 0, 0}, {1, 1, 1}};
+  const double lo[3] = {0, 0, 0}, hi[3] = {1, 0.5, 0.5};
+  EXPECT_TRUE(in_box(box, lo));
+  EXPECT_FALSE(in_box(box, hi));  // LIGGGHTS's sub-domain test is half-open
 }

@@ -1,6 +1,6 @@
 # Sphinx + MyST configuration of the dembridge documentation site.
 # Build: .venv/bin/python -m sphinx -W --keep-going -b html doc build/doc/html
-# (run by the test tests/python/test_docs.py, which also runs every ```lammps block as a deck).
+# (run by the test tests/docs/test_docs.py, which also runs every ```lammps block as a deck).
 import os
 import sys
 
@@ -14,7 +14,8 @@ from dembridge import __version__ as release  # noqa: E402
 
 version = release
 
-extensions = ["myst_parser", "sphinx.ext.autodoc", "sphinx.ext.napoleon", "deck_lexers"]
+extensions = ["myst_parser", "sphinx.ext.autodoc", "sphinx.ext.napoleon", "sphinx.ext.mathjax", "deck_lexers",
+              "command_index", "local_mathjax"]
 source_suffix = {".md": "markdown"}
 root_doc = "index"
 exclude_patterns = ["_build", "_ext", "README.md"]
@@ -24,6 +25,14 @@ myst_heading_anchors = 3
 suppress_warnings = []
 autodoc_member_order = "bysource"
 autodoc_mock_imports = ["lammps", "mpi4py", "matplotlib"]
-html_theme = "alabaster"
+html_theme = "furo"  # search, navigation sidebar, light/dark; code blocks scroll instead of being cut
 html_title = f"dembridge {release}"
 html_static_path = []
+# Formulas: MyST $...$ / $$...$$ rendered by MathJax 2, served from the site itself (no internet needed):
+# doc/_ext/local_mathjax.py copies Debian's libjs-mathjax into _static/mathjax (./dembridge installs it).
+mathjax_path = "mathjax/MathJax.js?config=TeX-AMS_CHTML"
+# MyST marks prose as tex2jax_ignore and formulas with class "math": tell MathJax 2 the same.
+mathjax2_config = {"showMathMenu": False, "messageStyle": "none",
+                   "tex2jax": {"processClass": "tex2jax_process|mathjax_process|math|output_area",
+                               "ignoreClass": "tex2jax_ignore|mathjax_ignore|document",
+                               "inlineMath": [["\\(", "\\)"]], "displayMath": [["\\[", "\\]"]]}}

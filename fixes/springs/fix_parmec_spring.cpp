@@ -330,18 +330,10 @@ void FixParmecSpring::init()
   }
 }
 
+// Springs of any length: the layer's setup_pre_exchange() raised the ghost cutoff above the longest spring, and
+// its pre_exchange() keeps it above them at every re-neighbouring (part2 is then always a ghost of part1's owner).
 void FixParmecSpring::setup(int)
 {
-  cutghost_ = comm->get_comm_cutoff();
-  // Rank-independent length check: the centre distance of two connected atoms must not exceed the
-  // ghost cutoff, otherwise part2 is not a ghost of part1's owner on some decompositions.
-  const Farthest far = farthest_beyond(cutghost_);
-  if (far.key >= 0) {
-    const SpringDef &d = defs_[far.key];
-    error->all(FLERR, fmt::format("{}: spring {} between atoms {} and {} is {:.6g} long, longer than the ghost cutoff "
-                                  "{:.6g}: raise 'comm_modify cutoff' above the longest spring",
-                                  cmd_, d.id, d.tag1, d.tag2, far.distance, cutghost_));
-  }
   evaluate(Mode::Setup);
   warn_beyond_critical();
   if (report_loops_) {  // 'loops' given: which loop takes how many springs in the committed steps
@@ -353,12 +345,6 @@ void FixParmecSpring::setup(int)
     if (comm->me == 0)
       utils::logmesg(lmp, "{}: springs per loop: centre {}, plane {}, general {}\n", cmd_, all[0], all[1], all[2]);
   }
-}
-
-void FixParmecSpring::min_setup(int)
-{
-  cutghost_ = comm->get_comm_cutoff();
-  evaluate(Mode::Trial);
 }
 
 void FixParmecSpring::post_force(int)

@@ -41,7 +41,6 @@ class FixParmecSpring : public state::PerAtomStateFix {
   FixParmecSpring(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
   void init() override;
   void setup(int) override;
-  void min_setup(int) override;
   // Out of line (not the base's inline one): the benchmark's callgrind figure collects this symbol.
   void post_force(int) override;
   void post_run() override;
@@ -130,7 +129,6 @@ class FixParmecSpring : public state::PerAtomStateFix {
   mutable state::RecordIndex where_;  // spring index -> (local atom, record) of the states owned here
   std::unordered_map<long, int> id_index_;  // user spring ID -> spring index
   const double *owned_slot(int spring) const;
-  double cutghost_ = 0.0;
 
   // One evaluation: what every spring reads (set once per evaluate()).
   struct EvalContext {
@@ -148,14 +146,13 @@ class FixParmecSpring : public state::PerAtomStateFix {
     bool recheck = true;    // part2's index checked by tag (atoms re-indexed since the last evaluation, or periodic)
     bool fill = true;       // write the local output rows (something reads them this step)
   };
-  enum class Failure { None, Part2Missing, TooLong, Kernel };
+  enum class Failure { None, Part2Missing, Kernel };
   // What one spring gives its atoms (force, torque per side), written by the (threaded) evaluation and
   // contributed in spring order afterwards.
   struct SpringResult {
     // (F, a x F) on part1, then -(F, b x F) on part2: each side with its sign, so that the sums only add (the
     // negation is exact: adding -v is subtracting v)
     double ft[12];
-    double value = 0.0;     // TooLong: the length
     int i = 0, k = -1, key = 0;
     bool apply = false;
     Failure failure = Failure::None;
@@ -188,8 +185,10 @@ class FixParmecSpring : public state::PerAtomStateFix {
   state::LocalIncidence incidence_;
   std::vector<char> torque_free_;  // per local atom: every spring's torque on it is a signed zero (built with incidence_)
   int threads_used_ = 0;  // most OpenMP threads of the spring loop in this run
-  // Returns kMoved if part2's index differs from the plan's (the plan is updated), kFailed on a failure.
-  enum : int { kMoved = 1, kFailed = 2 };
+  // Returns kMoved if part2's index differs from the plan's (the plan is updated), kFailed on a failure, kNear if
+  // the atoms are farther apart than near_ (half the ghost cutoff: the layer checks their reach)
+  enum : int { kMoved = 1, kFailed = 2, kNear = 4 };
+  double near_ = 0.0;  // near_length() for this evaluation
   // Parmec: 'order parmec' (compiled once per mode, so that the default loop carries none of its branches).
   template <bool Parmec> int evaluate_spring(const EvalContext &ctx, int r);
   int evaluate_centres(const EvalContext &ctx, int r);  // committed centre-to-centre point spring, default order

@@ -15,7 +15,7 @@ using namespace spring_fix;
 
 // The committed step of a point spring between two atom centres (centre_r_: follower, no friction, default
 // order), the bench's and most lattices' spring: evaluate_spring's arithmetic without the arm terms. Equal
-// bitwise: the points are the centres + 0 (as p = x + a with a = +0), the distance check's length is the
+// bitwise: the points are the centres + 0 (as p = x + a with a = +0), the reach check's length is the
 // frame's; the relative velocity v_k - v_i differs from (v_k + w_k x 0) - (v_i + w_i x 0) at most in the sign of
 // a zero component, which reaches the force only through the dashpot's velocity, where it is added to a
 // non-zero elastic force or dropped (friction, which would see it, is not in this class).
@@ -32,11 +32,7 @@ using namespace spring_fix;
   const sp::Vec3 w{(xk[0] + 0.0) - (xi[0] + 0.0), (xk[1] + 0.0) - (xi[1] + 0.0), (xk[2] + 0.0) - (xi[2] + 0.0)};
   sp::SpringFrame frame;
   frame.distance = std::sqrt(sp::dot(w, w));
-  if (frame.distance > cutghost_) {
-    res.failure = Failure::TooLong;
-    res.value = frame.distance;
-    return flags | kFailed;
-  }
+  if (frame.distance > near_) flags |= kNear;
   frame.len = frame.distance;
   frame.z = sp::unit_of(w, frame.len, false);
   const double *vi = v[i], *vk = v[k];

@@ -69,6 +69,7 @@ void FixParmecSpring::evaluate(Mode mode)
   ctx.recheck = ctx.periodic || neighbor->ncalls != plan_builds_;
   plan_builds_ = neighbor->ncalls;
   ctx.fill = output_wanted(mode);
+  near_ = near_length();
   // Committed steps in the default order: the centre-to-centre point springs and the planes carried by part2
   // from part1's centre by their own loops (fix_parmec_spring_centre_loop.cpp, fix_parmec_spring_plane_loop.cpp)
   const bool split = mode == Mode::Commit && !parmec_order_ && !general_loops_;
@@ -101,6 +102,7 @@ void FixParmecSpring::evaluate(Mode mode)
   }
 
   if (mode == Mode::Commit) hot_dirty_ = true;
+  if (flags & kNear) note_near();
 
   // Phase 2, serial: failures in spring order, then the contributions.
   if (flags & kFailed)
@@ -304,10 +306,6 @@ void FixParmecSpring::report_failure(const SpringResult &res)
   switch (res.failure) {
     case Failure::Part2Missing:
       second_atom_missing(res.key, " above the longest spring");
-    case Failure::TooLong:
-      fail_on_this_rank(lmp, FLERR, fmt::format("{}: spring {} between atoms {} and {} is {:.6g} long, longer than the ghost "
-                                                "cutoff {:.6g}: raise 'comm_modify cutoff' above the longest spring",
-                                                cmd_, d.id, d.tag1, d.tag2, res.value, cutghost_));
     case Failure::Kernel:
     case Failure::None:
       break;

@@ -63,12 +63,7 @@ int FixParmecSpring::evaluate_spring(const EvalContext &ctx, int r)
   if (d.tag2 >= 0) {
     k = part2_of(ctx, item, res, flags);
     if (k < 0) return flags | kFailed;
-    const double dist = sp::norm(vec(x[k]) - vec(x[i]));
-    if (dist > cutghost_) {
-      res.failure = Failure::TooLong;
-      res.value = dist;
-      return flags | kFailed;
-    }
+    if (sp::norm(vec(x[k]) - vec(x[i])) > near_) flags |= kNear;
     const bool plane = d.mode == sp::DirectionMode::Plane;
     if (parmec) {
       q = vec(x[k]) + sp::rotate_fused(ctx.rot[k], d.arm2);

@@ -35,12 +35,7 @@ using Rot = sp::BodyRotation;
   double **x = atom->x, **v = atom->v;
   const int i = item.i;
   const sp::Vec3 xi = vec(x[i]), xk = vec(x[k]);
-  const double dist = sp::norm(xk - xi);
-  if (dist > cutghost_) {
-    res.failure = Failure::TooLong;
-    res.value = dist;
-    return flags | kFailed;
-  }
+  if (sp::norm(xk - xi) > near_) flags |= kNear;
   const sp::Vec3 zero3{0, 0, 0};
   Rot own;  // the matrix formed for this spring (no per-atom matrices): read in place otherwise, not copied
   const Rot &Rk = ctx.body_rot ? ctx.body_rot[k] : (own = ctx.quat ? Rot::of(ctx.quat[k]) : Rot::identity());

@@ -7,7 +7,9 @@
 #include "error.h"
 #include "memory.h"
 #include "modify.h"
+#include "neighbor.h"
 #include "update.h"
+#include "utils.h"
 
 #include <algorithm>
 #include <cmath>
@@ -182,6 +184,64 @@ PerAtomStateFix::Farthest PerAtomStateFix::farthest_beyond(double cutoff)
   return {gworst.key, gworst.distance};
 }
 
+// ---------------------------------------------------------------------------------------------------
+// reach of the second atoms (see the header). Cost: nothing while every pair stays within half the cutoff
+// but one flag reduction per re-neighbouring; beyond it one forward communication per re-neighbouring; a
+// raised cutoff brings more ghost atoms to every rank (up to all of them).
+
+// A run's set-up, before its exchange and borders: the ghosts of the last run may be stale or gone, so the
+// lengths come from the owners' positions (one reduction of the entities' atoms).
+void PerAtomStateFix::setup_pre_exchange()
+{
+  if (!two_atom_) return;
+  double cut = comm->get_comm_cutoff();
+  const std::vector<AtomSnapshot> snap = snapshot_entity_atoms();
+  Farthest far;
+  for (std::size_t key = 0; key < atoms_.size(); key++) {
+    if (atoms_[key].second < 0) continue;
+    double d[3];
+    for (int c = 0; c < 3; c++) d[c] = snap[2 * key + 1].x[c] - snap[2 * key].x[c];
+    domain->minimum_image(FLERR, d[0], d[1], d[2]);
+    const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (len > cut && len > far.distance) far = {static_cast<int>(key), len};
+  }
+  if (far.key >= 0) cut = raise_ghost_cutoff(cut, far);  // the set-up's comm->setup() takes it
+  near_ = 0.5 * cut;
+  near_seen_ = false;
+}
+
+// A re-neighbouring, before its exchange and borders: the ghosts still hold the atoms of the last borders, each
+// second atom among them; if an evaluation since then met a long pair, this step's positions are sent to them
+// and every length measured.
+void PerAtomStateFix::pre_exchange()
+{
+  if (!two_atom_) return;
+  const int mine = near_seen_ ? 1 : 0;
+  int any = 0;
+  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, world);
+  near_seen_ = false;
+  if (!any) return;
+  comm->forward_comm();
+  double cut = comm->get_comm_cutoff();
+  const Farthest far = farthest_beyond(cut);
+  if (far.key < 0) return;
+  cut = raise_ghost_cutoff(cut, far);
+  comm->setup();  // the swaps of the new cutoff (the integrator calls it only when the box changes)
+  if (neighbor->style) neighbor->setup_bins();
+  near_ = 0.5 * cut;
+}
+
+double PerAtomStateFix::raise_ghost_cutoff(double cutoff, const Farthest &far)
+{
+  const double raised = 2.0 * far.distance;
+  comm->cutghostuser = raised;
+  if (comm->me == 0)
+    utils::logmesg(lmp, "{}: {} between atoms {} and {} is {:.6g} long, beyond the ghost cutoff {:.6g}: ghost "
+                   "cutoff raised to {:.6g}\n", cmd_, who(far.key), atoms_[far.key].first, atoms_[far.key].second,
+                   far.distance, cutoff, raised);
+  return comm->get_comm_cutoff();
+}
+
 void PerAtomStateFix::write_entity_restart(FILE *fp, int per, double sign,
                                            const std::function<void(int key, double *o)> &fill)
 {
@@ -237,7 +297,8 @@ void PerAtomStateFix::local_rows(int n)
 int PerAtomStateFix::setmask()
 {
   using namespace FixConst;
-  return POST_FORCE | MIN_POST_FORCE | (nevery > 0 && history_.is_open() ? END_OF_STEP : 0);
+  return POST_FORCE | MIN_POST_FORCE | (nevery > 0 && history_.is_open() ? END_OF_STEP : 0) |
+         (two_atom_ ? PRE_EXCHANGE | MIN_PRE_EXCHANGE : 0);
 }
 
 void PerAtomStateFix::open_history(const DefinitionReader::History &request, const std::string &prefix,

@@ -6,8 +6,9 @@
 // appends one record per entity to the atom that owns its state (records_.append), and evaluates them
 // each step. This class does the rest: the records follow their atom through exchange, sorting, deletion
 // and restart files; contributions to ghost atoms return to their owners and are summed in entity order
-// (sums_); the global restart block, the state count check, the ghost-cutoff check of two-atom entities
-// and the per-entity CSV history are here too.
+// (sums_); the global restart block, the state count check, the ghost cutoff that keeps the second atom of
+// every two-atom entity in reach of the first one's owner (raised when an entity gets longer, see
+// keep_in_reach) and the per-entity CSV history are here too.
 #pragma once
 
 #include "atom.h"
@@ -67,7 +68,13 @@ class PerAtomStateFix : public PerAtomRecordsFix {
   // Evaluation modes, dispatched here: post_force commits a step, min_setup/min_post_force evaluate a
   // trial (minimisation, state unchanged); the derived setup() calls evaluate(Mode::Setup).
   enum class Mode { Commit, Trial, Setup };
-  int setmask() override;  // POST_FORCE, MIN_POST_FORCE, END_OF_STEP with a history file
+  // POST_FORCE, MIN_POST_FORCE, END_OF_STEP with a history file, (MIN_)PRE_EXCHANGE with two-atom entities
+  int setmask() override;
+  // Two-atom entities: before the exchange and borders of a run's set-up or of a re-neighbouring, the ghost
+  // cutoff is raised if an entity is longer (keep_in_reach)
+  void setup_pre_exchange() override;
+  void pre_exchange() override;
+  void min_pre_exchange() override { pre_exchange(); }
   void post_force(int) override { evaluate(Mode::Commit); }
   void min_post_force(int) override { evaluate(Mode::Trial); }
   void min_setup(int) override { evaluate(Mode::Trial); }
@@ -118,6 +125,15 @@ class PerAtomStateFix : public PerAtomRecordsFix {
   };
   Farthest farthest_beyond(double cutoff);
 
+  // Reach of the second atoms (two-atom entities): the ghost cutoff is raised at a run's set-up (lengths from
+  // the owners' positions) and at a re-neighbouring (lengths from this step's ghost positions, measured only if
+  // an evaluation since the last one met an entity longer than near_length()) to twice the longest entity
+  // when one is longer than the cutoff, so that every second atom is a ghost of its first atom's owner until
+  // the next re-neighbouring, whatever its length. An evaluation calls note_near() when it met a pair of atoms
+  // farther apart than near_length() (half the ghost cutoff).
+  double near_length() const { return near_; }
+  void note_near() { near_seen_ = true; }
+
   // Ordered sums of one evaluation: reset, contribute (sign * values to atom i, local or ghost), then
   // collect (reverse communication when two-atom entities exist) and sums_.sum(i) per local atom.
   void reset_sums();
@@ -151,7 +167,11 @@ class PerAtomStateFix : public PerAtomRecordsFix {
   std::vector<std::pair<long, long>> atoms_;
   std::unordered_map<long, std::vector<int>> by_first_;  // first atom tag -> keys
   bool two_atom_ = false;
+  double near_ = 0.0;        // half the ghost cutoff in effect
+  bool near_seen_ = false;   // an evaluation since the last re-neighbouring met a pair beyond near_
   [[noreturn]] void contribution_overflow();
+  // Raise the ghost cutoff (from cutoff) to twice far.distance and say so; returns the new cutoff
+  double raise_ghost_cutoff(double cutoff, const Farthest &far);
 
  protected:
   // Whether a record read from a restart file belongs to atom i (default: its key is an entity whose first

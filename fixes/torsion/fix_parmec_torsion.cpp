@@ -246,14 +246,9 @@ void FixParmecTorsion::init()
   }
 }
 
+// Any distance between the atoms: the layer keeps the ghost cutoff above it (setup_pre_exchange, pre_exchange).
 void FixParmecTorsion::setup(int)
 {
-  // Rank-independent check: part2 must be within the ghost cutoff of part1 on every decomposition.
-  const double cut = comm->get_comm_cutoff();
-  const Farthest far = farthest_beyond(cut);
-  if (far.key >= 0)
-    error->all(FLERR, fmt::format("{}: torsion spring {}: its atoms are {:.6g} apart, farther than the ghost cutoff "
-                                  "{:.6g}: raise 'comm_modify cutoff'", cmd_, defs_[far.key].id, far.distance, cut));
   evaluate(Mode::Setup);
 }
 
@@ -272,6 +267,9 @@ void FixParmecTorsion::evaluate(Mode mode)
 
   local_rows(static_cast<int>(records_.total(nlocal)));
   int row = 0;
+  double **x = atom->x;
+  const double near2 = near_length() * near_length();
+  bool near = false;  // a pair farther apart than half the ghost cutoff (the layer then checks their reach)
 
   // 'order parmec': Parmec's stored rotation Λ (fix parmec/rigid, local and ghost atoms; with Q3 it is not
   // orthogonal), otherwise the atom quaternion's
@@ -291,6 +289,10 @@ void FixParmecTorsion::evaluate(Mode mode)
       const int idx = records_.key(i, s);
       const TorsionDef &d = defs_[idx];
       const int k = d.tag2 >= 0 ? second_atom(idx, i, false) : -1;
+      if (k >= 0) {
+        const double dx = x[k][0] - x[i][0], dy = x[k][1] - x[i][1], dz = x[k][2] - x[i][2];
+        near = near || dx * dx + dy * dy + dz * dz > near2;
+      }
       ts::TorsionState state;
       state.unpack(slot + 1);
       double t[3] = {0.0, 0.0, 0.0};
@@ -342,6 +344,7 @@ void FixParmecTorsion::evaluate(Mode mode)
     }
   }
 
+  if (near) note_near();
   collect_sums();
 
   // Each atom's contributions summed in spring order: the result does not depend on the decomposition.

@@ -745,8 +745,6 @@ BAD = {
     "zero_direction": (T + "spring 1 1 centre 2 centre K direction 0 0 0", ["spring 1", "direction"]),
     "unknown_keyword": (T + "sprong 1 1 centre 2 centre K", ["unknown keyword 'sprong'", "expected table"]),
     "missing_args": (T + "spring 1 1 centre 2", ["spring 1", "missing point2"]),
-    "too_long": (T + "spring 1 1 centre 3 centre K", ["spring 1 between atoms 1 and 3", "5 long",
-                                                      "ghost cutoff", "comm_modify cutoff"]),
     "off_centre_no_quat": (T + "spring 1 1 0.2 0 0 2 centre K", ["spring 1", "quaternions", "bpm/sphere"]),
     "no_ghost_velocity": (T + "spring 1 1 centre 2 centre K", ["comm_modify vel yes"]),
     "respa": (T + "spring 1 1 centre 2 centre K", ["does not support run_style respa"]),

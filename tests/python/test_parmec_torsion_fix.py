@@ -562,7 +562,6 @@ BAD = {
     "unknown_keyword": (T + f"torsoin 3 1 2 {Z} kroll K", ["unknown keyword 'torsoin'"]),
     "duplicate_id": (T + f"torsion 3 1 2 {Z} kroll K torsion 3 2 3 {Z} kroll K", ["torsion 3",
                                                                                    "defined twice"]),
-    "too_far": (T + f"torsion 3 1 3 {Z} kroll K", ["torsion spring 3", "farther than the ghost cutoff"]),
     "no_quaternions": (T + f"torsion 3 1 -1 {Z} kroll K", ["quaternions", "bpm/sphere"]),
     "no_ghost_velocity": (T + f"torsion 3 1 2 {Z} kroll K", ["comm_modify vel yes"]),
     "file_missing": ("file /nonexistent/x.torsion", ["file '/nonexistent/x.torsion' cannot be opened"]),

@@ -3,7 +3,8 @@
 # eight inactive point-to-plane springs (corners to the plane z = -5) that UNSPRING activates when it
 # removes the four springs between cubes 4 and 5 (numbered from 0; SUM of their SF > 4e5); gravity. The
 # first five cubes fall to the plane, the others hang from space, and the removed springs (still evaluated:
-# Parmec reports their LENGTH) get longer than the ghost cutoff the front end starts with (3 m). ARGV: [step as a multiple of CRITICAL (default 0.05, Parmec's), duration (default 2 s), HISTORY interval
+# Parmec reports their LENGTH) get longer than the ghost cutoff the front end starts with (3 m).
+# ARGV: [step as a multiple of CRITICAL (default 0.05, Parmec's), duration (default 2 s), HISTORY interval
 # (default every step)].
 args = ARGV ()
 matnum = MATERIAL (1E3, 1E9, 0.25)

@@ -186,7 +186,7 @@ class FixParmecSpring : public state::PerAtomStateFix {
   std::vector<char> torque_free_;  // per local atom: every spring's torque on it is a signed zero (built with incidence_)
   int threads_used_ = 0;  // most OpenMP threads of the spring loop in this run
   // Returns kMoved if part2's index differs from the plan's (the plan is updated), kFailed on a failure, kNear if
-  // the atoms are farther apart than near_ (half the ghost cutoff: the layer checks their reach)
+  // the atoms are farther apart than near_ (near the ghost cutoff: the layer checks their reach)
   enum : int { kMoved = 1, kFailed = 2, kNear = 4 };
   double near_ = 0.0;  // near_length() for this evaluation
   // Parmec: 'order parmec' (compiled once per mode, so that the default loop carries none of its branches).

@@ -185,9 +185,9 @@ PerAtomStateFix::Farthest PerAtomStateFix::farthest_beyond(double cutoff)
 }
 
 // ---------------------------------------------------------------------------------------------------
-// reach of the second atoms (see the header). Cost: nothing while every pair stays within half the cutoff
-// but one flag reduction per re-neighbouring; beyond it one forward communication per re-neighbouring; a
-// raised cutoff brings more ghost atoms to every rank (up to all of them).
+// reach of the second atoms (see the header). Cost: nothing while every pair stays within near_of(cutoff) but
+// one flag reduction per re-neighbouring; beyond it one forward communication and a pass over the entities
+// per re-neighbouring; a raised cutoff brings more ghost atoms to every rank (up to all of them).
 
 // A run's set-up, before its exchange and borders: the ghosts of the last run may be stale or gone, so the
 // lengths come from the owners' positions (one reduction of the entities' atoms).
@@ -206,7 +206,7 @@ void PerAtomStateFix::setup_pre_exchange()
     if (len > cut && len > far.distance) far = {static_cast<int>(key), len};
   }
   if (far.key >= 0) cut = raise_ghost_cutoff(cut, far);  // the set-up's comm->setup() takes it
-  near_ = 0.5 * cut;
+  near_ = near_of(cut);
   near_seen_ = false;
 }
 
@@ -228,7 +228,15 @@ void PerAtomStateFix::pre_exchange()
   cut = raise_ghost_cutoff(cut, far);
   comm->setup();  // the swaps of the new cutoff (the integrator calls it only when the box changes)
   if (neighbor->style) neighbor->setup_bins();
-  near_ = 0.5 * cut;
+  near_ = near_of(cut);
+}
+
+// The distance beyond which an evaluation reports a pair: the next borders find a pair that was nearer at the
+// last evaluation within the cutoff unless its distance grew by more than the neighbour skin in one step (LAMMPS's
+// own limit: an atom moving half the skin between neighbour checks), or by half the cutoff with a larger skin.
+double PerAtomStateFix::near_of(double cutoff) const
+{
+  return std::max(0.5 * cutoff, cutoff - neighbor->skin);
 }
 
 double PerAtomStateFix::raise_ghost_cutoff(double cutoff, const Farthest &far)

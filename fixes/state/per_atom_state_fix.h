@@ -130,7 +130,7 @@ class PerAtomStateFix : public PerAtomRecordsFix {
   // an evaluation since the last one met an entity longer than near_length()) to twice the longest entity
   // when one is longer than the cutoff, so that every second atom is a ghost of its first atom's owner until
   // the next re-neighbouring, whatever its length. An evaluation calls note_near() when it met a pair of atoms
-  // farther apart than near_length() (half the ghost cutoff).
+  // farther apart than near_length() (the ghost cutoff less the neighbour skin, at least half the cutoff).
   double near_length() const { return near_; }
   void note_near() { near_seen_ = true; }
 
@@ -167,11 +167,12 @@ class PerAtomStateFix : public PerAtomRecordsFix {
   std::vector<std::pair<long, long>> atoms_;
   std::unordered_map<long, std::vector<int>> by_first_;  // first atom tag -> keys
   bool two_atom_ = false;
-  double near_ = 0.0;        // half the ghost cutoff in effect
+  double near_ = 0.0;        // near_of(the ghost cutoff in effect)
   bool near_seen_ = false;   // an evaluation since the last re-neighbouring met a pair beyond near_
   [[noreturn]] void contribution_overflow();
   // Raise the ghost cutoff (from cutoff) to twice far.distance and say so; returns the new cutoff
   double raise_ghost_cutoff(double cutoff, const Farthest &far);
+  double near_of(double cutoff) const;
 
  protected:
   // Whether a record read from a restart file belongs to atom i (default: its key is an entity whose first

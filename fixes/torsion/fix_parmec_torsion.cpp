@@ -269,7 +269,7 @@ void FixParmecTorsion::evaluate(Mode mode)
   int row = 0;
   double **x = atom->x;
   const double near2 = near_length() * near_length();
-  bool near = false;  // a pair farther apart than half the ghost cutoff (the layer then checks their reach)
+  bool near = false;  // a pair near the ghost cutoff (the layer then checks their reach)
 
   // 'order parmec': Parmec's stored rotation Λ (fix parmec/rigid, local and ghost atoms; with Q3 it is not
   // orthogonal), otherwise the atom quaternion's

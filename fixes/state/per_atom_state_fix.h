@@ -8,7 +8,7 @@
 // and restart files; contributions to ghost atoms return to their owners and are summed in entity order
 // (sums_); the global restart block, the state count check, the ghost cutoff that keeps the second atom of
 // every two-atom entity in reach of the first one's owner (raised when an entity gets longer, see
-// keep_in_reach) and the per-entity CSV history are here too.
+// setup_pre_exchange and pre_exchange) and the per-entity CSV history are here too.
 #pragma once
 
 #include "atom.h"
@@ -71,7 +71,7 @@ class PerAtomStateFix : public PerAtomRecordsFix {
   // POST_FORCE, MIN_POST_FORCE, END_OF_STEP with a history file, (MIN_)PRE_EXCHANGE with two-atom entities
   int setmask() override;
   // Two-atom entities: before the exchange and borders of a run's set-up or of a re-neighbouring, the ghost
-  // cutoff is raised if an entity is longer (keep_in_reach)
+  // cutoff is raised if an entity is longer (see "Reach" below)
   void setup_pre_exchange() override;
   void pre_exchange() override;
   void min_pre_exchange() override { pre_exchange(); }

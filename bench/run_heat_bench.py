@@ -64,10 +64,10 @@ def env_for(code):
 
 def parse(log):
     text = open(log, errors="replace").read()
-    m = re.search(r"^Loop time of ([0-9.eE+-]+) on", text, re.M)
+    loops = re.findall(r"^Loop time of ([0-9.eE+-]+) on", text, re.M)  # the last: the measured run (the first is run 0)
     rows = [l.split() for l in text.splitlines() if re.match(r"^\s*\d+\s+\d+\s+\S+\s+\S+\s*$", l)]
     err = [l for l in text.splitlines() if l.startswith("ERROR")]
-    return (float(m.group(1)) if m else math.nan), rows, err
+    return (float(loops[-1]) if loops else math.nan), rows, err
 
 
 def callgrind(code, n, nsteps, plugin):

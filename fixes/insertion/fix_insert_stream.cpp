@@ -231,8 +231,8 @@ void FixInsertStream::pre_exchange()
   if (comm->me == 0) {
     bool inside = true;
     for (int k = 0; k < 3; ++k)
-      inside = inside && vol_lo_[k] >= domain->boxlo[k] && vol_lo_[k] < domain->boxhi[k] &&
-          vol_hi_[k] >= domain->boxlo[k] && vol_hi_[k] < domain->boxhi[k];
+      inside = inside && vol_lo_[k] >= domain->boxlo[k] && vol_lo_[k] <= domain->boxhi[k] &&
+          vol_hi_[k] >= domain->boxlo[k] && vol_hi_[k] <= domain->boxhi[k];  // LIGGGHTS's is_in_domain
     if (!inside)
       error->warning(FLERR, "Fix insert/stream: Extruded insertion face extends outside domain, may not insert all "
                             "particles correctly");

@@ -19,16 +19,18 @@ from liggghts_decks import LAUNCHER, copy_deck, errors, launcher_env, run, run_l
 from vtk_reader import read_legacy
 
 # deck -> the error texts of the commands it needs that are not in the plugin yet
-STREAM = ["Unrecognized fix style 'insert/stream'"]
-PENDING = {
-    "in.chute_wear_like": STREAM,
-    "in.conveyor_like": STREAM,
-    "in.mesh_gran_like": STREAM,
-    "in.insert_stream_like": STREAM,
+PENDING = {}
+# deck -> why it still differs from LIGGGHTS although every command exists (xfail strict on the assertion)
+DIFFERS = {
+    "in.mesh_gran_like": "LIGGGHTS shrink-wraps the box ('m') around the meshes too (y from -0.030006, the hopper's "
+                         "extent - 1e-4 of the box), LAMMPS around the atoms only (y from -0.01, the insertion face's "
+                         "edge): candidates within r of that box face are redrawn, 55 of 60 inserted, 'Less insertions "
+                         "than requested'",
 }
-# deck -> the error texts of the commands it needs that are not in the plugin yet (above); these run now:
-PASSING = ["in.packing_like", "in.moving_mesh_like", "in.heat_like", "in.cohesion_like"]
-DECKS = list(PENDING) + PASSING  # in.launcher_rewrites: the same checks on the runs of the rewrites_runs fixture
+# these run now (three of the insert/stream decks since fix insert/stream):
+PASSING = ["in.packing_like", "in.moving_mesh_like", "in.heat_like", "in.cohesion_like",
+           "in.chute_wear_like", "in.conveyor_like", "in.insert_stream_like"]
+DECKS = list(PENDING) + list(DIFFERS) + PASSING  # in.launcher_rewrites: the same checks on the runs of the rewrites_runs fixture
 
 
 class MissingCommand(Exception):
@@ -43,7 +45,9 @@ def check_like_liggghts(deck, out, lig_out, label):
 
 @pytest.mark.parametrize("deck", [
     pytest.param(d, marks=pytest.mark.xfail(strict=True, raises=MissingCommand,
-                                            reason="; ".join(PENDING[d]))) if d in PENDING else d
+                                            reason="; ".join(PENDING[d]))) if d in PENDING else
+    pytest.param(d, marks=pytest.mark.xfail(strict=True, raises=AssertionError, reason=DIFFERS[d])) if d in DIFFERS
+    else d
     for d in DECKS])
 def test_deck_runs_through_the_launcher_as_in_liggghts(deck, tmp_path):
     """Also: the packing deck's growth (fix adapt with an atom-style diameter) follows LIGGGHTS bit for bit on

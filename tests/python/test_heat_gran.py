@@ -149,3 +149,22 @@ def test_heat_deck_against_liggghts(tmp_path, nprocs):
     warn = lambda p: re.findall(r"WARNING: (time-step is .*?) \(", Path(p).read_text())
     assert warn(tmp_path / "liggghts" / "log.screen") == warn(tmp_path / "lammps" / "screen.lammps")
     assert len(warn(tmp_path / "lammps" / "screen.lammps")) == 8
+
+
+def test_dense_lattice_deck_against_liggghts(tmp_path):
+    """6^3 spheres with 6 contacts each, two types: every particle's Temp and heatFlux every 100 steps."""
+    deck = (CASE / "in.lattice").read_text()
+    (tmp_path / "case").mkdir()
+    ref = oh.run_liggghts(tmp_path / "case", tmp_path / "liggghts", deck_text=deck)
+    got = oh.run_lammps(lammps_deck(deck), tmp_path / "lammps")
+    fr, fg = read_frames(ref), read_frames(got)
+    assert sorted(fr) == sorted(fg) == list(range(0, 501, 100))
+    for step in fr:
+        assert sorted(fr[step]) == sorted(fg[step]) == list(range(1, 217))
+        qscale = max(abs(r[4]) for r in fr[step].values()) or 1.0
+        for i, r in fr[step].items():
+            g = fg[step][i]
+            assert r[:3] == g[:3], (step, i, "position", r[:3], g[:3])
+            assert close(r[3], g[3], abs(r[3])), (step, i, "Temp", r[3], g[3])
+            assert close(r[4], g[4], qscale), (step, i, "heatFlux", r[4], g[4])
+    assert sum(r[3] not in (300.0, 600.0) for r in fr[500].values()) > 100  # heat flowed through the lattice

@@ -48,3 +48,33 @@ def test_the_command_index_lists_every_command_page_with_a_line():
         assert rows, f"{name} has no row in the command index (no '# command' heading?)"
         for r in rows:
             assert r.split("|")[2].strip(), f"the index row of {name} has no description: {r}"
+
+
+# styles the plugin registers for its own use, not for decks
+INTERNAL = {("fix", "dembridge/contact/history")}
+
+
+def registered_styles():
+    """(kind, name) of every style the plugin registers (RegisterStyle objects, DEMBRIDGE_PAIR entries)."""
+    import glob
+    import re
+    root = os.path.dirname(DOC)
+    reg = re.compile(r'RegisterStyle\s+\w+\s*[({]\s*"(\w+)"\s*,\s*"([^"]+)"')
+    pair = re.compile(r'DEMBRIDGE_PAIR\(\s*\w+\s*,\s*"([^"]+)"')
+    out = set()
+    for src in glob.glob(os.path.join(root, "**", "*.cpp"), recursive=True):
+        if os.sep + "build" in src[len(root):] or os.sep + "tests" + os.sep in src[len(root):]:
+            continue
+        text = open(src, encoding="utf-8", errors="replace").read()
+        out |= set(reg.findall(text))
+        out |= {("pair", n) for n in pair.findall(text)}
+    return out - INTERNAL
+
+
+def test_every_registered_style_is_documented_on_a_command_page():
+    styles = registered_styles()
+    assert ("fix", "wall/gran") in styles and ("pair", "gran/hooke") in styles, "the source scan found no styles"
+    text = "\n".join(open(p, encoding="utf-8").read() for p in command_index.command_pages(DOC))
+    missing = sorted(f"{kind} {name}" for kind, name in styles if name not in text)
+    assert not missing, ("registered styles that no command page (doc/{pair,fix,compute,dump}_*.md) names: "
+                         + ", ".join(missing))

@@ -13,9 +13,9 @@
 #include "insertion_atoms.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
-#include <mpi.h>
 #include <stdexcept>
 
 using namespace LAMMPS_NS;
@@ -283,11 +283,16 @@ void FixInsertStream::pre_exchange()
     spheres.push_back(ns);
     mass += ns.mass;
   }
+  // LIGGGHTS 3.8 draws the release velocities (vel uniform/gaussian) right after the insertion, one
+  // particle after the other in insertion (= id) order
+  std::vector<std::array<double, 3>> v_release(spheres.size());
+  for (auto &vr : v_release) k_.vel.draw(insert_rng_, vr.data());
   const int nlocal_before = atom->nlocal;
   create_spheres(lmp, spheres);
   // LIGGGHTS's finalize_insertion: release when the centre reaches the face
   const int step = static_cast<int>(update->ntimestep);
   const double vn_dt = mag3(v_normal_) * update->dt;
+  size_t next = 0;
   for (int i = nlocal_before; i < atom->nlocal; ++i) {
     double rel[3];
     for (int k = 0; k < 3; ++k) rel[k] = p_ref_[k] - atom->x[i][k];
@@ -296,6 +301,10 @@ void FixInsertStream::pre_exchange()
     release_[i][3] = static_cast<double>(step);
     release_[i][4] = static_cast<double>(step + n_steps);
     for (int k = 0; k < 3; ++k) release_[i][5 + k] = v_normal_[k];
+    // this rank's new atoms are those of `spheres` in its sub-domain, in list order
+    while (!std::equal(atom->x[i], atom->x[i] + 3, spheres[next].x)) ++next;
+    for (int k = 0; k < 3; ++k) release_[i][8 + k] = v_release[next][k];
+    ++next;
   }
   ninserted_ += static_cast<long>(spheres.size());
   massinserted_ += mass;
@@ -313,13 +322,12 @@ void FixInsertStream::pre_exchange()
 }
 
 // LIGGGHTS's end_of_step: a particle in the extrusion volume moves at v_n with no force, torque or
-// spin; on its release step it gets the full insertion velocity and omega.
+// spin; on its release step it gets its release velocity and omega.
 void FixInsertStream::end_of_step()
 {
   const int step = static_cast<int>(update->ntimestep);
   const double dt = update->dt;
   double **x = atom->x, **v = atom->v, **f = atom->f, **omega = atom->omega, **torque = atom->torque;
-  std::vector<int> released;
   for (int i = 0; i < atom->nlocal; ++i) {
     if (!(atom->mask[i] & groupbit) || release_[i][3] == 0.) continue;
     const int i_step = static_cast<int>(release_[i][3] + kTiny);
@@ -331,40 +339,11 @@ void FixInsertStream::end_of_step()
       v[i][k] = release_[i][5 + k];
       omega[i][k] = f[i][k] = torque[i][k] = 0.0;
     }
-    if (step == r_step) {
-      for (int k = 0; k < 3; ++k) omega[i][k] = k_.omega[k];
-      released.push_back(i);
-    }
-  }
-  release_velocities(released);
-}
-
-// The velocities of the particles released this step. Random ones are drawn on the insert stream in id
-// order over all ranks (LIGGGHTS: in its local order, the id order unless it sorted the atoms meanwhile).
-void FixInsertStream::release_velocities(const std::vector<int> &released)
-{
-  double **v = atom->v;
-  if (k_.vel.style == insertion::VelocityRule::CONSTANT) {
-    for (int i : released)
-      for (int k = 0; k < 3; ++k) v[i][k] = k_.vel.v[k];
-    return;
-  }
-  int n = static_cast<int>(released.size()), ntotal = 0;
-  MPI_Allreduce(&n, &ntotal, 1, MPI_INT, MPI_SUM, world);
-  if (ntotal == 0) return;
-  std::vector<int> counts(comm->nprocs), displs(comm->nprocs, 0);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
-  for (int p = 1; p < comm->nprocs; ++p) displs[p] = displs[p - 1] + counts[p - 1];
-  std::vector<tagint> mine, all(ntotal);
-  for (int i : released) mine.push_back(atom->tag[i]);
-  MPI_Allgatherv(mine.data(), n, MPI_LMP_TAGINT, all.data(), counts.data(), displs.data(), MPI_LMP_TAGINT, world);
-  std::sort(all.begin(), all.end());
-  for (tagint tag : all) {
-    double vel[3];
-    k_.vel.draw(insert_rng_, vel);
-    for (int i : released)
-      if (atom->tag[i] == tag)
-        for (int k = 0; k < 3; ++k) v[i][k] = vel[k];
+    if (step == r_step)
+      for (int k = 0; k < 3; ++k) {
+        v[i][k] = release_[i][8 + k];
+        omega[i][k] = k_.omega[k];
+      }
   }
 }
 

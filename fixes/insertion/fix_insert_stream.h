@@ -39,14 +39,13 @@ class FixInsertStream : public LAMMPS_NS::Fix {
   double memory_usage() override;
 
  private:
-  // per atom: inserted position (3), insertion step, release step, velocity in the volume (3);
-  // insertion step 0: not (or no longer) in an extrusion volume of this fix
-  static constexpr int kRelease = 8;
+  // per atom: inserted position (3), insertion step, release step, velocity in the volume (3),
+  // velocity at release (3); insertion step 0: not (or no longer) in an extrusion volume of this fix
+  static constexpr int kRelease = 11;
   std::string prefix() const;
   void check_face();
   void compute_insertion_properties();
   int count_to_insert();
-  void release_velocities(const std::vector<int> &released);
 
   insertion::InsertKeywords k_;
   insertion::StreamKeywords s_;

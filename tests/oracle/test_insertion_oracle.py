@@ -100,9 +100,23 @@ def test_insertion_bit_identical_one_rank(name, liggghts_frames, tmp_path):
                                          ("pack_mass_three_templates", 4),
                                          ("rate_region_two_templates", 2),
                                          ("stream_extrude_two_templates", 2),
-                                         ("stream_mass_every_all_in", 2), ("stream_no_overlapcheck_shrink", 4)])
+                                         ("stream_mass_every_all_in", 2), ("stream_no_overlapcheck_uniform", 4)])
 def test_insertion_rank_invariant(name, nprocs, liggghts_frames, tmp_path):
     """On 2 and 4 ranks the plugin inserts LIGGGHTS's one-rank particles (LIGGGHTS itself does not)."""
     deck = (DATA / ("in." + name)).read_text()
     got = oh.read_dump(oh.run_lammps(lammps_deck(deck), tmp_path, nprocs=nprocs, files=MESHES))
     assert_same_frames(liggghts_frames[name], got, f"{name} on {nprocs} ranks")
+
+
+@pytest.mark.liggghts
+@pytest.mark.plugin
+def test_stream_release_state_survives_sorting_and_migration(liggghts_frames, tmp_path):
+    """insert/stream keeps, per atom, where and when each particle entered the extrusion volume; LAMMPS
+    sorts the atoms every 3 steps here, and the 2 ranks meet at z = 0.085, inside the extrusion volume (0.08 to
+    0.1), so the particles migrate while in it: the state must follow its atom for them to stay LIGGGHTS's."""
+    name = "stream_no_overlapcheck_uniform"
+    deck = lammps_deck((DATA / ("in." + name)).read_text())
+    deck = deck.replace("atom_modify map array", "atom_modify map array sort 3 0.004\nprocessors 1 1 2")
+    deck = deck.replace("create_box 1 reg", "create_box 1 reg\nbalance 1.0 z 0.95")
+    got = oh.read_dump(oh.run_lammps(deck, tmp_path, nprocs=2, files=MESHES))
+    assert_same_frames(liggghts_frames[name], got, f"{name} sorted, 2 ranks")

@@ -33,11 +33,16 @@ def steps(rows):
     return head, groups
 
 
-def trim(name, every, case="refnode_forces"):
+def trim(name, every, case="refnode_forces", out=None):
+    """out: a plain .csv name (read by the C++ unit tests, which have no gzip reader)."""
     head, groups = steps(rows_of(os.path.join(src, case, name)))
     keep = head + [r for i, g in enumerate(groups) if i == 0 or i % every == 0 or g[0]["cmd"] == "5" for r in g]
-    raw = gzip.GzipFile(os.path.join(here, case, name), "wb", compresslevel=9, mtime=0)  # reproducible bytes
-    with io.TextIOWrapper(raw, newline="") as f:
+    if out:
+        f = open(os.path.join(here, case, out), "w", newline="")
+    else:
+        raw = gzip.GzipFile(os.path.join(here, case, name), "wb", compresslevel=9, mtime=0)  # reproducible bytes
+        f = io.TextIOWrapper(raw, newline="")
+    with f:
         w = csv.DictWriter(f, fieldnames=["seq", "dir", "cmd", "values"], lineterminator="\n")
         w.writeheader()
         w.writerows(keep)
@@ -47,3 +52,5 @@ trim("transcript_loose.csv.gz", 4)
 trim("transcript_tight.csv.gz", 8)
 trim("transcript_loose.csv.gz", 10, "mapping_beam")
 trim("transcript_tight.csv.gz", 20, "mapping_beam")
+trim("transcript_loose.csv.gz", 10, "modal_body", "transcript_loose.csv")
+trim("transcript_tight.csv.gz", 20, "modal_body", "transcript_tight.csv")

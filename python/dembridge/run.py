@@ -6,8 +6,11 @@ on ``LAMMPS_PLUGIN_PATH``.
 """
 import dataclasses
 import os
+import shutil
 import subprocess
+import sys
 import tempfile
+import weakref
 
 from .locate import installed_plugin, lmp_executable, mpiexec, plugin_path
 from .outputs import read_thermo
@@ -46,16 +49,21 @@ def _plugin_env(env):
     return env
 
 
-def run_deck(deck, nprocs=1, variables=None, cwd=None, log=None, args=(), timeout=None, check=True, env=None):
+def run_deck(deck, nprocs=1, variables=None, cwd=None, log=None, args=(), timeout=None, check=True, env=None,
+             stream=False):
     """Run ``deck`` (a file name, or the text of a deck) with ``lmp`` on ``nprocs`` MPI ranks.
 
     ``variables`` become ``-var NAME VALUE``; ``cwd`` is the working directory (default: the deck's
     folder, or a new temporary folder for deck text); ``log`` the log file (default ``log.lammps`` in
     ``cwd``); ``args`` extra ``lmp`` arguments. Returns a :class:`Run`; with ``check`` a failed run
-    raises RuntimeError showing the end of LAMMPS's output.
+    raises RuntimeError showing the end of LAMMPS's output. ``stream=True`` prints LAMMPS's output as
+    it comes (progress of a long run; stderr merged into ``Run.stdout``). A temporary folder made for
+    deck text is removed when the returned :class:`Run` is garbage-collected (at exit at the latest).
     """
+    made = None
     if "\n" in deck or not os.path.isfile(deck):
-        cwd = cwd or tempfile.mkdtemp(prefix="dembridge-run-")
+        if not cwd:
+            cwd = made = tempfile.mkdtemp(prefix="dembridge-run-")
         path = os.path.join(cwd, "in.deck")
         with open(path, "w") as fh:
             fh.write(deck if deck.endswith("\n") else deck + "\n")
@@ -69,7 +77,30 @@ def run_deck(deck, nprocs=1, variables=None, cwd=None, log=None, args=(), timeou
     cmd += list(args)
     if nprocs > 1:
         cmd = [mpiexec(), "-n", str(nprocs)] + cmd
-    p = subprocess.run(cmd, cwd=cwd, env=_plugin_env(env or os.environ), capture_output=True, text=True,
-                       timeout=timeout)
-    r = Run(cmd, p.returncode, log, p.stdout, p.stderr)
+    if stream:
+        returncode, out, err = _streamed(cmd, cwd, _plugin_env(env or os.environ), timeout)
+    else:
+        p = subprocess.run(cmd, cwd=cwd, env=_plugin_env(env or os.environ), capture_output=True, text=True,
+                           timeout=timeout)
+        returncode, out, err = p.returncode, p.stdout, p.stderr
+    r = Run(cmd, returncode, log, out, err)
+    if made:
+        weakref.finalize(r, shutil.rmtree, made, True)
     return r.check() if check else r
+
+
+def _streamed(cmd, cwd, env, timeout):
+    """Run ``cmd`` printing each output line as it comes; (exit code, output, "")."""
+    lines = []
+    with subprocess.Popen(cmd, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                          bufsize=1) as p:
+        try:
+            for line in p.stdout:
+                sys.stdout.write(line)
+                sys.stdout.flush()
+                lines.append(line)
+            p.wait(timeout=timeout)
+        except BaseException:
+            p.kill()
+            raise
+    return p.returncode, "".join(lines), ""

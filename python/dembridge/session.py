@@ -45,8 +45,9 @@ def new_lammps(comm=None, screen=False, log=None):
 
 
 def _named(a, names):
+    from .outputs import typed_columns
     a = np.asarray(a, dtype=float)
-    return {n: a[:, k] for k, n in enumerate(names[:a.shape[1]])}
+    return typed_columns({n: a[:, k] for k, n in enumerate(names[:a.shape[1]])})
 
 
 def _local_array(lmp, kind, ident):

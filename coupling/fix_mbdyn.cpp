@@ -1,5 +1,6 @@
 // fix mbdyn: see fix_mbdyn.h and doc/fix_mbdyn.md.
 #include "fix_mbdyn.h"
+#include "lammps_compat.h"
 
 #include "atom.h"
 #include "bond.h"
@@ -717,7 +718,7 @@ void FixMBDyn::bind_atoms()
       double r[3] = {0, 0, 0};
       if (!nodes_[k].is_atom) {
         double d[3] = {x[i][0] - poseA_[k].x[0], x[i][1] - poseA_[k].x[1], x[i][2] - poseA_[k].x[2]};
-        domain->minimum_image(here(), __LINE__, d);
+        dembridge::minimum_image(domain, here(), __LINE__, d);
         const V3 rl = mat_t_vec(poseA_[k].R, d);
         r[0] = rl[0];
         r[1] = rl[1];
@@ -883,7 +884,7 @@ void FixMBDyn::accumulate_loads(const std::vector<Pose> &poses, std::vector<doub
                           domain->zperiodic ? domain->prd_half[2] : inf};
   auto wrap = [&](double *d) {
     if (triclinic || std::fabs(d[0]) > half[0] || std::fabs(d[1]) > half[1] || std::fabs(d[2]) > half[2])
-      domain->minimum_image(here(), __LINE__, d);
+      dembridge::minimum_image(domain, here(), __LINE__, d);
   };
   auto add = [&](int i, int k) {
     double d[3] = {x[i][0] - poses[k].x[0], x[i][1] - poses[k].x[1], x[i][2] - poses[k].x[2]};

@@ -11,6 +11,7 @@
 // The arithmetic is the general path's (fix_mbdyn.cpp, apply_pose and accumulate_loads), term by
 // term, so both give the same bits.
 #include "fix_mbdyn.h"
+#include "lammps_compat.h"
 
 #include "atom.h"
 #include "domain.h"
@@ -148,7 +149,7 @@ void FixMBDyn::accumulate_loads_node_atoms(const std::vector<Pose> &poses, std::
     double d[3] = {xi[0] - px[0], xi[1] - px[1], xi[2] - px[2]};
     if (periodic &&
         (triclinic || std::fabs(d[0]) > half[0] || std::fabs(d[1]) > half[1] || std::fabs(d[2]) > half[2]))
-      domain->minimum_image(FLERR, d);
+      dembridge::minimum_image(domain, FLERR, d);
     const double m[3] = {d[1] * fi[2] - d[2] * fi[1], d[2] * fi[0] - d[0] * fi[2], d[0] * fi[1] - d[1] * fi[0]};
     for (int c = 0; c < 3; ++c) {
       slot[c] = 0.0 + fi[c];

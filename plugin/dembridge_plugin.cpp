@@ -1,10 +1,12 @@
 // lammpsplugin_init: the only exported symbol. Checks the host version, then registers every
 // style collected in the style registry.
+#include "mpi_flavour.h"
 #include "plugin_abi.h"
 #include "style_registry.h"
 #include "version_check.h"
 
 #include "comm.h"
+#include "error.h"
 #include "lammps.h"
 #include "modify.h"
 #include "output.h"
@@ -38,6 +40,11 @@ extern "C" __attribute__((visibility("default"))) void lammpsplugin_init(void *l
   const bool first_rank = host->comm->me == 0;
   if (!verdict.message.empty() && first_rank) LAMMPS_NS::utils::logmesg(host, verdict.message + "\n");
   if (!verdict.accept) return;
+  // regfunc is LAMMPS's plugin_register: in liblammps, whose dependencies name the MPI it runs on
+  const auto host_mpi = dembridge::mpi_of_object(regfunc);
+  const auto mpi_why = dembridge::mpi_mismatch_message(dembridge::mpi_flavour_from_name(DEMBRIDGE_MPI_FLAVOUR),
+                                                       host_mpi.flavour, host_mpi.object);
+  if (!mpi_why.empty()) host->error->all(FLERR, mpi_why);  // liblammps's own MPI reports it: no call of ours
   if (first_rank)
     LAMMPS_NS::utils::logmesg(host, dembridge::load_banner(DEMBRIDGE_VERSION, DEMBRIDGE_LAMMPS_NUM_VER) + "\n");
 

@@ -5,6 +5,7 @@
 #include "definition_file.h"
 
 #include "serial_fix_note.h"
+#include "lammps_compat.h"
 #include "style_registry.h"
 
 #include "body_rotation.h"
@@ -245,7 +246,7 @@ void FixParmecSpring::reference_geometry(const std::vector<state::AtomSnapshot> 
     const sp::Vec3 P1 = d.centre1 ? X1 : d.P1;
     d.X1ref = X1;
     auto min_image = [&](sp::Vec3 v) {
-      domain->minimum_image(FLERR, v[0], v[1], v[2]);
+      dembridge::minimum_image(domain, FLERR, v[0], v[1], v[2]);
       return v;
     };
     auto snap = [](sp::Vec3 arm, const sp::Vec3 &X) {

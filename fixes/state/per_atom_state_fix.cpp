@@ -1,4 +1,5 @@
 #include "per_atom_state_fix.h"
+#include "lammps_compat.h"
 #include "rank_error.h"
 
 #include "atom.h"
@@ -201,7 +202,7 @@ void PerAtomStateFix::setup_pre_exchange()
     if (atoms_[key].second < 0) continue;
     double d[3];
     for (int c = 0; c < 3; c++) d[c] = snap[2 * key + 1].x[c] - snap[2 * key].x[c];
-    domain->minimum_image(FLERR, d[0], d[1], d[2]);
+    dembridge::minimum_image(domain, FLERR, d[0], d[1], d[2]);
     const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (len > cut && len > far.distance) far = {static_cast<int>(key), len};
   }

@@ -7,7 +7,6 @@ Outputs: out/log.lammps, out/hopper.dump and out/mesh_*.vtk (ParaView/OVITO), ou
 """
 import argparse
 import os
-import re
 import shutil
 import subprocess
 import sys
@@ -22,17 +21,8 @@ MASS = 2500 * 4.0 / 3.0 * 3.141592653589793 * 0.0015 ** 3  # one particle (d = 3
 
 
 def read_thermo(log):
-    rows, cols = [], None
-    for line in open(log):
-        w = line.split()
-        if w[:1] == ["Step"]:
-            cols = w
-            continue
-        if cols and len(w) == len(cols) and re.match(r"^\d+$", w[0]):
-            rows.append(dict(zip(cols, (float(x) for x in w))))
-        elif cols and w[:1] == ["Loop"]:
-            cols = None
-    return rows
+    """The thermo rows of every run of the log, in order, as dicts column -> value (dembridge.read_thermo)."""
+    return [dict(zip(run, values)) for run in dembridge.read_thermo(log) for values in zip(*run.values())]
 
 
 def run(out, nprocs, nsettle, nrun):
@@ -60,12 +50,19 @@ def flow_rate(rows, nsettle, span=10):
     return out
 
 
+def summary(rows, nsettle):
+    """One line: particles, how many are left in the funnel, the peak flow rate (if the run was long enough)."""
+    fr = flow_rate(rows, nsettle)
+    peak = f"peak flow rate {max(b for _, b in fr) * 1e3:.2f} g/s" if fr else "run too short for a flow rate"
+    return f"particles: {int(rows[0]['Atoms'])}, left in the funnel: {int(rows[-1]['v_nin'])}, {peak}"
+
+
 def plot(rows, nsettle, png):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     t = [r["Time"] for r in rows]
-    t_open = next(r["Time"] for r in rows if r["Step"] >= nsettle)
+    t_open = next((r["Time"] for r in rows if r["Step"] >= nsettle), t[-1])
     fig, ax = plt.subplots(3, 1, figsize=(7, 9), sharex=True)
     ax[0].plot(t, [r["v_nin"] * MASS * 1e3 for r in rows])
     ax[0].set_ylabel("mass in funnel [g]")
@@ -93,9 +90,7 @@ def main():
     a = ap.parse_args()
     rows = run(os.path.abspath(a.out), a.np, a.settle, a.run)
     plot(rows, a.settle, os.path.join(a.out, "hopper.png"))
-    fr = flow_rate(rows, a.settle)
-    print(f"particles: {int(rows[0]['Atoms'])}, left in the funnel: {int(rows[-1]['v_nin'])}, "
-          f"peak flow rate {max(b for _, b in fr) * 1e3:.2f} g/s; plot: {os.path.join(a.out, 'hopper.png')}")
+    print(f"{summary(rows, a.settle)}; plot: {os.path.join(a.out, 'hopper.png')}")
 
 
 if __name__ == "__main__":

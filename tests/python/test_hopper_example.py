@@ -25,3 +25,11 @@ def test_hopper_example_discharges_and_reports_the_funnel_force(tmp_path):
     assert -1.5 * weight < fz < -0.3 * weight
     assert os.path.exists(tmp_path / "mesh_0.vtk") and os.path.exists(tmp_path / "mesh_12000.vtk")
     run_hopper.plot(rows, nsettle, str(tmp_path / "hopper.png"))
+    assert os.path.getsize(tmp_path / "hopper.png") > 0
+    # a run stopped right after the gate opened (shorter than the flow-rate window) still plots
+    short = [r for r in rows if r["Step"] <= nsettle + 400]
+    assert run_hopper.flow_rate(short, nsettle) == []
+    assert run_hopper.summary(short, nsettle).endswith("run too short for a flow rate")
+    assert "peak flow rate" in run_hopper.summary(rows, nsettle)
+    run_hopper.plot(short, nsettle, str(tmp_path / "short.png"))
+    assert os.path.getsize(tmp_path / "short.png") > 0

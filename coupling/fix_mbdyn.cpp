@@ -156,7 +156,7 @@ std::string num(double v)
 
 const char *kKeywords =
     "path, port, host, file, sleep, precision, create, coupling, orientation, labels, sorted, accelerations, reference_node, "
-    "reference_forces, rotate_reference_forces, reference, node, "
+    "reference_forces, rotate_reference_forces, reference, node, mapping, match_tolerance, "
     "substeps, mbdyn_dt, loads, predictor, startup_exchange, gravity, connect_timeout, io_timeout, tolerance, "
     "max_iterations, profile";
 
@@ -265,6 +265,29 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
         continue;
       }
       nodes_.push_back(n);
+    } else if (kw == "mapping") {
+      // mapping MESH-ID points M: MBDyn's M mapped points, each driving the mesh vertices at its t0 position
+      if (deform_) error->all(FLERR, prefix + "keyword 'mapping' given twice: one mesh follows the mapped points");
+      deform_mesh_ = value("the ID of a fix mesh/surface/stress");
+      const std::string pk = value("'points M'");
+      if (pk != "points")
+        error->all(FLERR, prefix + "keyword 'mapping' expects 'mapping MESH-ID points M', got '" + pk + "' after the mesh ID");
+      const long long m = parse_int("mapping points", value("the number of mapped points"), prefix, error,
+                                    "the number of MBDyn's mapped points (>= 3)", 3);
+      deform_ = std::make_unique<MbdynDeformDriver>();
+      for (long long j = 0; j < m; ++j) {
+        NodeSpec n;
+        n.is_atom = false;
+        n.is_mesh = n.is_vertex = true;
+        n.group = deform_mesh_;
+        n.text = "mapped point " + std::to_string(j + 1) + " of mesh " + deform_mesh_;
+        nodes_.push_back(n);
+      }
+    } else if (kw == "match_tolerance") {
+      match_tolerance_ = parse_double(kw, value("a distance"), prefix, error, "a distance (> 0)");
+      if (!(match_tolerance_ > 0))
+        error->all(FLERR, prefix + "keyword 'match_tolerance' expects a distance (> 0), got " + arg[i]);
+      match_tolerance_given_ = true;
     } else if (kw == "substeps") {
       substeps_ = static_cast<int>(parse_int(kw, value("a positive integer"), prefix, error, "a positive integer", 1));
       substeps_given = true;
@@ -305,6 +328,18 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
                                "`port`) or 'file IN OUT' (MBDyn's file communicator)");
   if (!file_ && (file_sleep_ > 0 || file_precision_ > 0))
     error->all(FLERR, prefix + "'sleep' and 'precision' are for the file communicator ('file IN OUT')");
+  if (deform_) {
+    for (const NodeSpec &n : nodes_)
+      if (!n.is_vertex)
+        error->all(FLERR, prefix + "'mapping' and 'node " + n.text + "' together: with MBDyn's external structural "
+                                   "mapping the mapped points are all the points (give either 'mapping' or 'node' entries)");
+    if (reference_body_ || o.nodal.reference_node)
+      error->all(FLERR, prefix + "'mapping' supports 'reference_node no' only (the mapped points in the global frame)");
+    if (o.nodal.has_rotation())
+      error->all(FLERR, prefix + "'mapping' needs 'orientation none': MBDyn's mapped points carry no orientation");
+  } else if (match_tolerance_given_) {
+    error->all(FLERR, prefix + "'match_tolerance' is for 'mapping MESH-ID points M'");
+  }
   if (nodes_.empty())
     error->all(FLERR, prefix + "no MBDyn point given: add one 'node atom ID' or 'node group GROUP-ID' per point of the "
                                "external structural element, in the element's order");
@@ -315,7 +350,7 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
   if (reference_body_) nodes_.push_back(*reference_body_);  // the last slot: poses and loads like a point's
   for (std::size_t a = 0; a < nodes_.size(); ++a)
     for (std::size_t b = a + 1; b < nodes_.size(); ++b)
-      if (nodes_[a].is_atom == nodes_[b].is_atom && nodes_[a].is_mesh == nodes_[b].is_mesh &&
+      if (!nodes_[a].is_vertex && nodes_[a].is_atom == nodes_[b].is_atom && nodes_[a].is_mesh == nodes_[b].is_mesh &&
           (nodes_[a].is_atom ? nodes_[a].tag == nodes_[b].tag : nodes_[a].group == nodes_[b].group))
         error->all(FLERR, prefix + slot_name(a) + " and " + slot_name(b) + " are both '" + nodes_[a].text +
                               "': an atom or a mesh can follow only one MBDyn point");
@@ -456,7 +491,8 @@ void FixMBDyn::init()
     error->all(FLERR, prefix + "does not support run_style respa (it reads the loads in post_force); use run_style verlet");
   check_atoms();
   for (const NodeSpec &n : nodes_)
-    if (n.is_mesh) meshes_[n.mesh].attach(lmp, n.group, prefix + "node " + n.text);
+    if (n.is_mesh && !n.is_vertex) meshes_[n.mesh].attach(lmp, n.group, prefix + "node " + n.text);
+  if (deform_) deform_->attach(lmp, deform_mesh_, prefix);
 
   // How many coupled atoms another fix acts on.
   auto coupled_in = [&](Fix *f) {
@@ -756,7 +792,15 @@ void FixMBDyn::bind_atoms()
     node_radius_[m.node] = std::max(node_radius_[m.node], std::sqrt(m.r[0] * m.r[0] + m.r[1] * m.r[1] + m.r[2] * m.r[2]));
   }
   for (std::size_t k = 0; k < nodes_.size(); ++k)
-    if (nodes_[k].is_mesh) meshes_[nodes_[k].mesh].bind(poseA_[k].x, poseA_[k].R);
+    if (nodes_[k].is_mesh && !nodes_[k].is_vertex) meshes_[nodes_[k].mesh].bind(poseA_[k].x, poseA_[k].R);
+  if (deform_) {
+    vertex_x_.resize(num_points_);
+    for (std::size_t k = 0; k < num_points_; ++k) vertex_x_[k] = poseA_[k].x;
+    const std::string why = deform_->bind(vertex_x_, match_tolerance_);
+    if (!why.empty())
+      fail_all("mapping " + deform_mesh_ + " points " + std::to_string(num_points_) + ": " + why + " (match_tolerance " +
+               num(match_tolerance_) + "; each vertex of the mesh as placed must be at one mapped point of MBDyn's t0 message)");
+  }
   for (std::size_t k = 0; k < nodes_.size(); ++k)
     if (per_node[k] == 0 && !nodes_[k].is_mesh)
       fail_all(slot_name(k) + " (" + nodes_[k].text + "): no atom to couple");
@@ -824,7 +868,17 @@ void FixMBDyn::apply_pose(const std::vector<Pose> &poses, bool set_x)
   const imageint image0 = ((imageint) IMGMAX << IMG2BITS) | ((imageint) IMGMAX << IMGBITS) | IMGMAX;
   if (set_x)
     for (std::size_t k = 0; k < nodes_.size(); ++k)
-      if (nodes_[k].is_mesh) meshes_[nodes_[k].mesh].move_to(poses[k].x, poses[k].R, poses[k].v, poses[k].w);
+      if (nodes_[k].is_mesh && !nodes_[k].is_vertex)
+        meshes_[nodes_[k].mesh].move_to(poses[k].x, poses[k].R, poses[k].v, poses[k].w);
+  if (set_x && deform_) {
+    vertex_x_.resize(num_points_);
+    vertex_v_.resize(num_points_);
+    for (std::size_t k = 0; k < num_points_; ++k) {
+      vertex_x_[k] = poses[k].x;
+      vertex_v_[k] = poses[k].v;
+    }
+    deform_->move_to(vertex_x_, vertex_v_);
+  }
   // remap only where it can change x: a periodic dimension, or a triclinic box's round trip; an
   // orthogonal box's remap leaves a position inside [lo, hi) as it is, so those skip the call
   const bool remap = domain->xperiodic || domain->yperiodic || domain->zperiodic || domain->triclinic;
@@ -912,7 +966,8 @@ void FixMBDyn::accumulate_loads(const std::vector<Pose> &poses, std::vector<doub
     out6.swap(local);  // both keep their storage from step to step
   }
   for (int k = 0; k < n; ++k)
-    if (nodes_[k].is_mesh) meshes_[nodes_[k].mesh].loads(poses[k].x, &out6[6 * k]);
+    if (nodes_[k].is_mesh && !nodes_[k].is_vertex) meshes_[nodes_[k].mesh].loads(poses[k].x, &out6[6 * k]);
+  if (deform_) deform_->loads(out6.data());
 }
 
 void FixMBDyn::send_answer(const std::vector<double> &loads6, bool converged, const char *what)
@@ -1205,6 +1260,7 @@ void FixMBDyn::reevaluate_forces(int vflag)
   if (atom->molecular && force->bond) force->bond->compute(0, 0);
   if (force->newton) comm->reverse_comm();
   for (MbdynMeshDriver &m : meshes_) m.restart_totals();  // before the wall fixes add again
+  if (deform_) deform_->restart_totals();
   const int me = modify->find_fix(id);
   for (int i = 0; i < me; ++i)
     if (modify->fmask[i] & POST_FORCE) modify->fix[i]->post_force(vflag);
@@ -1247,7 +1303,7 @@ void FixMBDyn::post_force(int vflag)
   // With one sub-step the average, (0 + f) * 1, is f itself to the bit (f is never -0.0: each entry
   // is 0.0 plus a sum, which round-to-nearest never makes -0.0; node meshes write their own entries,
   // so with them the average is still taken).
-  const bool average_is_loads = substeps_ == 1 && meshes_.empty();
+  const bool average_is_loads = substeps_ == 1 && meshes_.empty() && !deform_;
   if (!tight_) {
     send_answer(average_is_loads ? loads : average(loads), true, "the loads of MBDyn step (loose)");
     last_iterations_ = 1;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "exchange_profile.h"
+#include "mbdyn_deform_driver.h"
 #include "mbdyn_mesh_driver.h"
 
 namespace dembridge::mbdyn {
@@ -57,6 +58,7 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   struct NodeSpec {
     bool is_atom = true;
     bool is_mesh = false;  // node mesh MESH-ID: drives mesh_driver (index into meshes_)
+    bool is_vertex = false;  // mapping MESH-ID: a mapped point driving vertices of deform_ (is_mesh too)
     bool is_reference = false;  // `reference atom|group`: follows MBDyn's reference node (last slot)
     int mesh = -1;
     LAMMPS_NS::tagint tag = 0;
@@ -164,6 +166,11 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   std::vector<double> local_loads_, step_loads_, avg_;              // per-step buffers, reused
   std::unique_ptr<mbdyn::Loads> answer_;                            // the loads message, reused
   std::vector<MbdynMeshDriver> meshes_;  // node mesh entries, in order
+  std::unique_ptr<MbdynDeformDriver> deform_;  // mapping MESH-ID: the mapped points drive its vertices
+  std::string deform_mesh_;
+  double match_tolerance_ = 1e-8;
+  bool match_tolerance_given_ = false;
+  std::vector<std::array<double, 3>> vertex_x_, vertex_v_;  // per mapped point, per move (reused)
   bool others_move_coupled_ = true;  // another fix may change coupled atoms' velocities (init)
   int allbits_ = 0;  // union of the group bits of coupled groups (0 if only atoms)
   std::vector<Pose> poseA_, poseB_, cur_;

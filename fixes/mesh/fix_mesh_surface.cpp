@@ -280,6 +280,7 @@ void FixMeshSurface::zero_totals()
   if (!vector_flag) return;
   for (double &v : total_) v = 0.0;
   std::fill(tri_force_.begin(), tri_force_.end(), 0.0);
+  contacts_.clear();
   totals_stale_ = true;
 }
 
@@ -348,6 +349,8 @@ void FixMeshSurface::add_wall_force(int tri, const double *f, const double *cp)
     total_[3 + k] += tq[k];
     tri_force_[3 * std::size_t(tri) + k] += frc[k];
   }
+  if (record_contacts_)
+    contacts_.insert(contacts_.end(), {double(tri), f[0], f[1], f[2], cp[0], cp[1], cp[2]});
 }
 
 std::vector<double> FixMeshSurface::triangle_forces_all() const

@@ -62,6 +62,10 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   // candidates use the full skin and the geometry is refreshed at re-neighbouring (§6, §7.3).
   void drive_externally() { external_driver_ = true; }
   bool driven_externally() const { return external_driver_; }
+  // fix mbdyn ... mapping: keep every add_wall_force of the step (this rank's, from the last
+  // pre_force on) as triangle, force, contact point, for the distribution to the vertices.
+  void record_contacts() { record_contacts_ = true; }
+  const std::vector<double> &contacts() const { return contacts_; }
   int ncandidates(int i) const { return i < neighbors_.nparticles() ? neighbors_.count(i) : 0; }
   const int *candidates(int i) const { return neighbors_.begin(i); }
   mesh::TriangleContact closest(int tri, const double *x, double radius) const
@@ -103,6 +107,8 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   std::vector<mesh::TriangleNodes> nodes_at_build_;
   bool rebuilt_this_step_ = false;
   bool external_driver_ = false;
+  bool record_contacts_ = false;
+  std::vector<double> contacts_;  // record_contacts(): 7 per contact of this step, this rank
   bool conveyor_ = false;       // surface_vel / surface_ang_vel
   bool totals_stale_ = false;   // totals changed since the last MPI sum (same on every rank)
 

@@ -1,0 +1,73 @@
+#include "mbdyn_deform_driver.h"
+
+#include "fix_mesh_surface.h"
+#include "vertex_loads.h"
+
+#include "error.h"
+#include "lammps.h"
+
+#include <mpi.h>
+
+namespace dembridge {
+
+void MbdynDeformDriver::attach(LAMMPS_NS::LAMMPS *lmp, const std::string &mesh_id, const std::string &caller)
+{
+  lmp_ = lmp;
+  mesh_ = FixMeshSurface::find(lmp, mesh_id, caller);
+  if (!mesh_->stress_on())
+    lmp->error->all(FLERR, caller + ": mapping " + mesh_id + " needs fix mesh/surface/stress (with stress on), "
+                                    "whose wall contacts give the loads of the mapped points");
+  if (mesh_->moving() && !mesh_->driven_externally())
+    lmp->error->all(FLERR, caller + ": mapping " + mesh_id + " is also moved by fix move/mesh; a mesh follows "
+                                    "either MBDyn or fix move/mesh");
+  mesh_->drive_externally();
+  mesh_->record_contacts();
+}
+
+std::string MbdynDeformDriver::bind(const std::vector<V3> &points, double tol)
+{
+  if (!corners_.empty()) return "";  // a later run: the vertices keep their points
+  try {
+    corners_ = mesh::match_corners(mesh_->mesh(), points, tol);
+  } catch (const mesh::MeshError &e) {
+    return e.what();
+  }
+  points_ = points.size();
+  return "";
+}
+
+void MbdynDeformDriver::move_to(const std::vector<V3> &x, const std::vector<V3> &v)
+{
+  mesh::TriangleMesh &m = mesh_->mesh_for_motion();
+  m.place_nodes(mesh::nodes_from_points(corners_, x));
+  m.zero_velocity();
+  for (int t = 0; t < m.size(); ++t)
+    for (int k = 0; k < 3; ++k) m.add_node_velocity(t, k, v[corners_[t][k]]);
+}
+
+void MbdynDeformDriver::loads(double *out6) const
+{
+  // every rank's contacts to every rank, then one canonical sum (the same on any rank count)
+  const std::vector<double> &mine = mesh_->contacts();
+  int nprocs = 1;
+  MPI_Comm_size(lmp_->world, &nprocs);
+  const int n = static_cast<int>(mine.size());
+  std::vector<int> counts(nprocs), displs(nprocs, 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, lmp_->world);
+  int total = 0;
+  for (int p = 0; p < nprocs; ++p) {
+    displs[p] = total;
+    total += counts[p];
+  }
+  std::vector<mesh::MeshContact> all(total / 7);
+  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, reinterpret_cast<double *>(all.data()), counts.data(), displs.data(),
+                 MPI_DOUBLE, lmp_->world);
+  std::vector<double> p(3 * points_, 0.0);
+  mesh::distribute_contacts(mesh_->mesh(), corners_, std::move(all), p.data());
+  for (std::size_t j = 0; j < points_; ++j)
+    for (int a = 0; a < 3; ++a) out6[6 * j + a] += p[3 * j + a];
+}
+
+void MbdynDeformDriver::restart_totals() { mesh_->pre_force(0); }
+
+}  // namespace dembridge

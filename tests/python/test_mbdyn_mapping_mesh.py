@@ -9,9 +9,10 @@ triangles.csv naming each triangle's points):
     the particles' wall forces (their total force less their weight; they do not touch each other),
     and their moments about the origin (at the points' positions) to the moment of the wall contacts
     on the mesh (fix mesh/surface/stress's, about its reference point, moved to the origin), each to
-    1e-12 of its largest value. (Not to the particles' x x f + torque: the contact law's torque arm
-    is the radius, not the distance to the contact point, which differs by the overlap);
-  * 1 rank and 2 ranks answer the same loads to 1e-12;
+    1e-12 of its largest value. (Not to the particles' x x f + torque: their torques put the
+    tangential force at the contact law's arm, not at the contact point; 5e-6 relative here);
+  * 1 rank and 2 ranks answer the same loads to 1e-12; tight coupling: the recorded command sequence,
+    at each step's end the vertices at the converged points and the converged loads minus the wall force;
   * bad input is an ERROR naming the argument."""
 import csv
 import gzip
@@ -34,8 +35,8 @@ PARTICLES = [(0.3, 0.03), (0.6, -0.05), (1.0, 0.0), (1.3, 0.06)]  # (x, y) on th
 RADIUS = 0.02
 
 
-def transcript():
-    with gzip.open(os.path.join(DATA, "transcript_loose.csv.gz"), "rt") as f:
+def transcript(coupling="loose"):
+    with gzip.open(os.path.join(DATA, f"transcript_{coupling}.csv.gz"), "rt") as f:
         return [(int(r["seq"]), r["dir"], int(r["cmd"]), r["values"].split()) for r in csv.DictReader(f)]
 
 
@@ -114,14 +115,16 @@ run {steps}
 """
 
 
-def couple(sockdir, steps, nprocs=1, **kw):
-    rows = transcript()
+def couple(sockdir, steps, nprocs=1, coupling="loose", answers_out=None, **kw):
+    rows = transcript(coupling)
     sock = os.path.join(sockdir, "m.sock")
     fake = FakeMbdyn(sock, rows, timeout=30)
     rc, out, secs = run_lammps(deck(sock, steps, **kw), sockdir, nprocs=nprocs, timeout=120)
     answers = fake.join()
     assert fake.error is None, (fake.error, out[-3000:])
     assert rc == 0, out[-3000:]
+    if answers_out is not None:
+        answers_out.extend(answers)
     loads = [v for _, c, v in answers if c in (2, 6)]
     return rows, loads, parse_thermo(out, 13), secs
 
@@ -177,6 +180,43 @@ def test_vertices_follow_the_mapped_points_and_loads_are_the_wall_forces(sockdir
     worst = max(abs(a - b) for la, lb in zip(results[1], results[2]) for a, b in zip(la, lb))
     print(f"mapping mesh: 1 rank vs 2 ranks {worst / scale:.1e} of the largest point load {scale:.3g}")
     assert worst <= 1e-12 * scale
+
+
+def test_tight_converged_vertices_and_loads(sockdir):
+    # tight: per step, MBDyn's iterates (command 2) until the converged one is answered with 6; the
+    # convergence test sees the poses only (tolerance 1e-13 as for the wall of atoms), so fix mbdyn
+    # answers with the recorded command sequence; at each step's end the mesh is at the last iterate
+    # and the converged loads are minus the particles' wall force
+    rows = transcript("tight")
+    steps = sum(1 for _, d, c, _ in rows if d == "peer->mbdyn" and c == 6) - 1
+    dump = f"fix D all mesh/dump 1 stl {sockdir}/mesh*.stl plate"
+    answers = []
+    _, _, thermo, secs = couple(sockdir, steps, coupling="tight", fix_extra="coupling tight tolerance 1e-13",
+                                dump=dump, answers_out=answers)
+    assert [(q, c) for q, c, _ in answers] == [(q, c) for q, d, c, _ in rows if d == "peer->mbdyn"]
+    # the kinematics message just before each answer with command 6 is the step's converged pose
+    converged, last = [], None
+    for _, d, c, v in rows:
+        if d == "mbdyn->peer" and c in (2, 6):
+            last = [float(x) for x in v][:3 * M_POINTS]
+        elif d == "peer->mbdyn" and c == 6:
+            converged.append(last)
+    final = [v for _, c, v in answers if c == 6]
+    assert len(converged) == len(final) == steps + 1
+    tris = triangles()
+    worst_vertex = worst_f = fscale = 0.0
+    for n, q in enumerate(converged):
+        mesh = read_stl(f"{sockdir}/mesh{n}.stl")
+        worst_vertex = max(worst_vertex, max(abs(mesh[t][k][c] - q[3 * j + c]) for t, cs in enumerate(tris)
+                                             for k, j in enumerate(cs) for c in range(3)))
+        F = [sum(final[n][3 * j + c] for j in range(M_POINTS)) for c in range(3)]
+        fp = thermo[n][0:3]
+        fscale = max(fscale, max(map(abs, fp)))
+        worst_f = max(worst_f, max(abs(F[c] + fp[c]) for c in range(3)))
+    print(f"mapping mesh tight: {len(answers)} answers in {secs:.1f} s; converged vertices vs MBDyn's points "
+          f"{worst_vertex}; converged loads + particles' wall force {worst_f / fscale:.1e} of {fscale:.3g} N")
+    assert worst_vertex == 0.0
+    assert worst_f <= 1e-12 * fscale
 
 
 def test_substeps_vertices_follow_the_hermite_of_two_poses(sockdir):

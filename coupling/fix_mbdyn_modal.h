@@ -1,0 +1,65 @@
+// fix mbdyn ... modal: LAMMPS as the peer of MBDyn's `external modal` force. The fix's atoms are
+// carried by the modal node and deformed by the modes of its modal joint (FEM file), and answer
+// the node's force and moment and one generalized force per mode. Loose coupling. Created by
+// fix mbdyn when its arguments name `modal` (fix_mbdyn.cpp). Syntax: doc/fix_mbdyn.md.
+#pragma once
+
+#include "fix.h"
+
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "modal_body.h"
+#include "modal_message.h"
+
+namespace dembridge::mbdyn {
+class SocketTransport;
+}
+
+namespace dembridge {
+
+class FixMBDynModal : public LAMMPS_NS::Fix {
+ public:
+  FixMBDynModal(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
+  ~FixMBDynModal() override;
+
+  int setmask() override;
+  void init() override;
+  void setup_pre_exchange() override;
+  void pre_exchange() override {}
+  void setup(int vflag) override;
+  void post_integrate() override;
+  void post_force(int vflag) override;
+  double compute_vector(int i) override;
+
+ private:
+  [[noreturn]] void fail(const std::string &why);
+  void fail_if_rank0_failed(std::string err);
+  void bind_atoms();
+  bool receive();  // false: MBDyn ended the simulation
+  void place_atoms();
+  void answer();
+
+  // configuration
+  std::string path_;
+  mbdyn::ModalConfig config_;
+  mbdyn::FemModel fem_;
+  std::string origin_;
+  double match_ = 1e-6;
+  double connect_timeout_ = 60, io_timeout_ = 300;
+
+  std::unique_ptr<mbdyn::SocketTransport> transport_;  // rank 0
+  mbdyn::ModalBody body_;
+  std::vector<LAMMPS_NS::tagint> tags_;                 // the carried atoms, point order
+  std::unordered_map<LAMMPS_NS::tagint, std::size_t> point_of_;
+  mbdyn::ModalKinematics kin_;
+  std::vector<double> x_, v_;  // 3P per message
+  std::vector<unsigned char> buf_;
+  mbdyn::ModalLoads last_;
+  bool bound_ = false, ended_ = false, connected_ = false;
+  long long messages_ = 0;
+};
+
+}  // namespace dembridge

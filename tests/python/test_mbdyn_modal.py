@@ -4,8 +4,9 @@ mode 1 along z, mode 2 along y, nodal shape (1, -2, 1)).
 - type modal: the recording peer's law p = -kq q - cq qdot (kq = 300, 600, cq = 1, 2) is the deck's
   fix addforce fy = -100 y - vy/3, fz = -50 z - vz/6 on the atoms (sum of w^2 = 6), so fix mbdyn must
   answer the recorded generalized forces.
-- type all: the atoms must sit at x_n + R (X + sum q Phi) of every recorded message, and a constant
-  force on atom 3 must come back as F = f, M = (x_3 - x_n) x f, p = Phi(3) . R^T f (closed forms here).
+- type all (and rigid, q = 0): the atoms must sit at x_n + R (X + sum q Phi) of every recorded message,
+  and a constant force on atom 3 must come back as F = f, M = (x_3 - x_n) x f, p = Phi(3) . R^T f
+  (closed forms here).
 - bad input: an ERROR naming what was expected."""
 import csv
 import os
@@ -133,16 +134,18 @@ def test_type_modal_answers_the_recorded_generalized_forces(sockdir, nprocs):
     print(f"type modal: max |p - p_recorded| = {worst:.2e}")
 
 
-def test_type_all_atoms_follow_the_recorded_modal_node_and_modes(sockdir):
+@pytest.mark.parametrize("transcript,type_,nloads,messages", [
+    ("transcript_loose.csv", "all", 8, 51), ("transcript_modal_type_rigid.csv", "rigid", 6, 6)])
+def test_atoms_follow_the_recorded_modal_node_and_modes(sockdir, transcript, type_, nloads, messages):
     f3 = (0.3, -0.7, 1.1)
     forces = f"group a3 id 3\nfix push a3 addforce {f3[0]} {f3[1]} {f3[2]}"
-    rows, mbdyn, frames = run_case(sockdir, "transcript_loose.csv", "all", 8, forces)
-    assert mbdyn.request == (7, 5, 2)
+    rows, mbdyn, frames = run_case(sockdir, transcript, type_, nloads, forces)
+    assert mbdyn.request == (7, 5, 2)  # MBC_MODAL | MBC_REF_NODE, 2 modes (also with type rigid)
     kins = [v for d, c, v in rows if d == "mbdyn->peer" and c == 6]
-    assert len(frames) == len(kins) == len(mbdyn.answers) == 51
+    assert len(frames) == len(kins) == len(mbdyn.answers) == messages
     worst_x = worst_load = 0.0
     for kin, frame, (c, got) in zip(kins, frames, mbdyn.answers):
-        xn, Rc, q = kin[0:3], kin[3:12], kin[18:20]
+        xn, Rc, q = kin[0:3], kin[3:12], (kin[18:20] if type_ == "all" else (0.0, 0.0))
         R = [[Rc[0], Rc[3], Rc[6]], [Rc[1], Rc[4], Rc[7]], [Rc[2], Rc[5], Rc[8]]]
         for p in range(3):
             d = (0.5 * p, q[1] * W[p], q[0] * W[p])  # rest X + q1 Phi1 (z) + q2 Phi2 (y)
@@ -151,12 +154,12 @@ def test_type_all_atoms_follow_the_recorded_modal_node_and_modes(sockdir):
         arm = [frame[2][a] - xn[a] for a in range(3)]
         M = (arm[1] * f3[2] - arm[2] * f3[1], arm[2] * f3[0] - arm[0] * f3[2], arm[0] * f3[1] - arm[1] * f3[0])
         local = [sum(R[b][a] * f3[b] for b in range(3)) for a in range(3)]
-        expect = list(f3) + list(M) + [W[2] * local[2], W[2] * local[1]]
+        expect = list(f3) + list(M) + ([W[2] * local[2], W[2] * local[1]] if type_ == "all" else [])
         assert c == 6
         worst_load = max(worst_load, max(abs(g - e) for g, e in zip(got, expect)))
     assert worst_x <= 1e-15, worst_x
     assert worst_load <= 1e-15, worst_load
-    print(f"type all: max position error {worst_x:.2e}, max load error {worst_load:.2e}")
+    print(f"type {type_}: max position error {worst_x:.2e}, max load error {worst_load:.2e}")
 
 
 BAD = """plugin load ${{plugin}}

@@ -189,7 +189,7 @@ def main(argv=None):
     env = dict(os.environ, CCACHE_DIR=os.environ.get("CCACHE_DIR", "/work/ccache"), CCACHE_BASEDIR=str(scratch),
                DEMBRIDGE_ROOT=str(src), DEMBRIDGE_PLUGIN=str(src / "build" / "dembridgeplugin.so"),
                DEMBRIDGE_VENV=str(src / ".venv"), OMP_NUM_THREADS="1")
-    log = open(scratch / "mutations.log", "w")
+    log = open(scratch / f"mutations-{time.strftime('%Y%m%d-%H%M%S')}.log", "w")  # one log per run
     build = src / "build"
     if not (build / "CMakeCache.txt").is_file():
         rc, out, _ = sh(["cmake", "-S", str(src), "-B", str(build), f"-DPython3_EXECUTABLE={src}/.venv/bin/python",
@@ -207,7 +207,7 @@ def main(argv=None):
         raise SystemExit("the unchanged copy does not build:\n" + out[-3000:])
     failed = run_tests(src, all_tests, env, log)
     if failed:
-        raise SystemExit(f"on the unchanged copy these selections fail already: {failed} (see {scratch}/mutations.log)")
+        raise SystemExit(f"on the unchanged copy these selections fail already: {failed} (see {log.name})")
     rows = []
     for m in muts:
         f = src / m.path

@@ -3,7 +3,7 @@
 #include "rank_error.h"
 #include "definition_file.h"
 #include "state/table_registry.h"
-#include "springs/body_rotation.h"  // (by its folder: this folder has a body_rotation.h too)
+#include "math/quaternion.h"
 
 #include "style_registry.h"
 
@@ -39,7 +39,7 @@ using state::parse_double;
 // Rotation matrix (body -> space) of a LAMMPS quaternion (w, x, y, z): the spring loops' matrix.
 Mat3 rotation(const double *q)
 {
-  const sp::BodyRotation r = sp::BodyRotation::of(q);
+  const math::BodyRotation r = math::BodyRotation::of(q);
   Mat3 m;
   m << r.m[0][0], r.m[0][1], r.m[0][2], r.m[1][0], r.m[1][1], r.m[1][2], r.m[2][0], r.m[2][1], r.m[2][2];
   return m;

@@ -8,7 +8,7 @@
 #include "lammps_compat.h"
 #include "style_registry.h"
 
-#include "body_rotation.h"
+#include "math/quaternion.h"
 
 #include "atom.h"
 #include "comm.h"

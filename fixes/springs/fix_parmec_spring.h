@@ -21,7 +21,7 @@
 #include "local_incidence.h"
 #include "per_atom_state_fix.h"
 
-#include "body_rotation.h"
+#include "math/quaternion.h"
 #include "spring_geometry.h"
 #include "spring_law.h"
 #include "spring_state.h"

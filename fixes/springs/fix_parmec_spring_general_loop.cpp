@@ -2,7 +2,7 @@
 // 'order parmec'), one spring at a time.
 #include "fix_parmec_spring_step.h"
 
-#include "body_rotation.h"
+#include "math/quaternion.h"
 
 #include "atom.h"
 #include "domain.h"

@@ -2,7 +2,7 @@
 // part2, an atom (default order).
 #include "fix_parmec_spring_step.h"
 
-#include "body_rotation.h"
+#include "math/quaternion.h"
 
 #include "atom.h"
 

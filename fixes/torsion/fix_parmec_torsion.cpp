@@ -7,7 +7,7 @@
 
 #include "axis_inertia.h"
 #include "torsion_step.h"
-#include "springs/body_rotation.h"  // (by its folder: fixes/rigid has a body_rotation.h too)
+#include "math/quaternion.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -65,7 +65,7 @@ using state::is_number;
 // Row-major rotation matrix (body -> space) of a LAMMPS quaternion (w, x, y, z): the spring loops' matrix.
 ts::Mat3 rotation(const double *q)
 {
-  const sp::BodyRotation r = sp::BodyRotation::of(q);
+  const math::BodyRotation r = math::BodyRotation::of(q);
   return {r.m[0][0], r.m[0][1], r.m[0][2], r.m[1][0], r.m[1][1], r.m[1][2], r.m[2][0], r.m[2][1], r.m[2][2]};
 }
 

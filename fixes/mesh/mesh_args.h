@@ -1,42 +1,9 @@
-// Argument reader for the mesh fixes: every failure is a LAMMPS ERROR naming the command, the
-// argument and what was expected.
+// The mesh fixes' name for the plugin's argument reader (fixes/command_args.h).
 #pragma once
 
-#include "pointers.h"
+#include "command_args.h"
 #include "mesh_vec3.h"
 
-#include <string>
-
 namespace dembridge {
-
-class MeshArgs : protected LAMMPS_NS::Pointers {
- public:
-  MeshArgs(LAMMPS_NS::LAMMPS *lmp, std::string cmd, int narg, char **arg, int first)
-      : Pointers(lmp), cmd_(std::move(cmd)), narg_(narg), arg_(arg), i_(first)
-  {
-  }
-  bool done() const { return i_ >= narg_; }
-  int position() const { return i_; }
-  const char *peek() const { return i_ < narg_ ? arg_[i_] : ""; }
-
-  [[noreturn]] void fail(const std::string &what, const std::string &expected);
-  void expect_keyword(const std::string &kw, const std::string &usage);
-  std::string word(const std::string &what);
-  double number(const std::string &what);
-  double positive(const std::string &what);
-  int integer(const std::string &what);
-  mesh::Vec3 vec3(const std::string &what);
-  mesh::Vec3 nonzero_vec3(const std::string &what);
-  bool yes_no(const std::string &what);
-  bool on_off(const std::string &what);
-  std::string variable_name(const std::string &what);  // v_name -> name (must be an equal-style variable)
-
- private:
-  std::string cmd_;
-  int narg_;
-  char **arg_;
-  int i_;
-  const char *next(const std::string &what);
-};
-
+using MeshArgs = CommandArgs;
 }  // namespace dembridge

@@ -3,7 +3,7 @@
 #include "fix_mesh_surface.h"
 #include "fix_property_global.h"
 #include "fix_wall_gran.h"
-#include "mesh_args.h"
+#include "command_args.h"
 #include "pair_gran.h"
 #include "timestep_estimates.h"
 
@@ -33,7 +33,7 @@ constexpr double BIG = 1.0e6;  // LIGGGHTS's start value of the minima
 FixCheckTimestepGran::FixCheckTimestepGran(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
 {
   cmd_ = std::string("Fix check/timestep/gran (id ") + id + ")";
-  MeshArgs a(lmp, cmd_, narg, arg, 3);
+  CommandArgs a(lmp, cmd_, narg, arg, 3);
   if (std::strcmp(a.peek(), "check_every_time") == 0) a.word("check_every_time");
   nevery = a.integer("N");
   if (nevery <= 0) a.fail("N", "expected a positive number of steps, got " + std::to_string(nevery));

@@ -1,4 +1,4 @@
-#include "mesh_args.h"
+#include "command_args.h"
 
 #include "error.h"
 #include "input.h"
@@ -9,28 +9,28 @@
 
 namespace dembridge {
 
-void MeshArgs::fail(const std::string &what, const std::string &expected)
+void CommandArgs::fail(const std::string &what, const std::string &expected)
 {
   error->all(FLERR, cmd_ + ": " + what + ": " + expected);
   std::abort();  // not reached: error->all throws or exits
 }
 
-const char *MeshArgs::next(const std::string &what)
+const char *CommandArgs::next(const std::string &what)
 {
   if (i_ >= narg_) fail(what, "missing value at the end of the command");
   return arg_[i_++];
 }
 
-void MeshArgs::expect_keyword(const std::string &kw, const std::string &usage)
+void CommandArgs::expect_keyword(const std::string &kw, const std::string &usage)
 {
   if (i_ >= narg_) fail("'" + kw + "'", "missing (expected " + usage + ")");
   const std::string got = arg_[i_++];
   if (got != kw) fail("'" + got + "'", "expected keyword '" + kw + "' here (" + usage + ")");
 }
 
-std::string MeshArgs::word(const std::string &what) { return next(what); }
+std::string CommandArgs::word(const std::string &what) { return next(what); }
 
-double MeshArgs::number(const std::string &what)
+double CommandArgs::number(const std::string &what)
 {
   const std::string s = next(what);
   char *end = nullptr;
@@ -39,14 +39,14 @@ double MeshArgs::number(const std::string &what)
   return v;
 }
 
-double MeshArgs::positive(const std::string &what)
+double CommandArgs::positive(const std::string &what)
 {
   const double v = number(what);
   if (!(v > 0.0)) fail(what, "expected a positive number, got " + std::string(arg_[i_ - 1]));
   return v;
 }
 
-int MeshArgs::integer(const std::string &what)
+int CommandArgs::integer(const std::string &what)
 {
   const std::string s = next(what);
   char *end = nullptr;
@@ -55,35 +55,35 @@ int MeshArgs::integer(const std::string &what)
   return int(v);
 }
 
-mesh::Vec3 MeshArgs::vec3(const std::string &what)
+math::Vec3 CommandArgs::vec3(const std::string &what)
 {
-  mesh::Vec3 v;
+  math::Vec3 v;
   for (int k = 0; k < 3; ++k) v[k] = number(what + " (component " + std::to_string(k + 1) + " of 3)");
   return v;
 }
 
-mesh::Vec3 MeshArgs::nonzero_vec3(const std::string &what)
+math::Vec3 CommandArgs::nonzero_vec3(const std::string &what)
 {
-  const mesh::Vec3 v = vec3(what);
+  const math::Vec3 v = vec3(what);
   if (v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0) fail(what, "expected a non-zero vector, got 0 0 0");
   return v;
 }
 
-bool MeshArgs::yes_no(const std::string &what)
+bool CommandArgs::yes_no(const std::string &what)
 {
   const std::string s = next(what);
   if (s != "yes" && s != "no") fail(what, "expected 'yes' or 'no', got '" + s + "'");
   return s == "yes";
 }
 
-bool MeshArgs::on_off(const std::string &what)
+bool CommandArgs::on_off(const std::string &what)
 {
   const std::string s = next(what);
   if (s != "on" && s != "off") fail(what, "expected 'on' or 'off', got '" + s + "'");
   return s == "on";
 }
 
-std::string MeshArgs::variable_name(const std::string &what)
+std::string CommandArgs::variable_name(const std::string &what)
 {
   const std::string s = next(what);
   if (s.rfind("v_", 0) != 0 || s.size() < 3) fail(what, "expected an equal-style variable as v_name, got '" + s + "'");

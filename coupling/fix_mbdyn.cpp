@@ -16,6 +16,7 @@
 #include "update.h"
 #include "utils.h"
 
+#include "math/rotation.h"
 #include "file_session.h"
 #include "peer_session.h"
 #include "protocol_error.h"
@@ -42,80 +43,11 @@ namespace {
 using M9 = std::array<double, 9>;
 using V3 = std::array<double, 3>;
 
-V3 mat_vec(const M9 &R, const double *v)
-{
-  return {R[0] * v[0] + R[1] * v[1] + R[2] * v[2], R[3] * v[0] + R[4] * v[1] + R[5] * v[2],
-          R[6] * v[0] + R[7] * v[1] + R[8] * v[2]};
-}
-V3 mat_t_vec(const M9 &R, const double *v)
-{
-  return {R[0] * v[0] + R[3] * v[1] + R[6] * v[2], R[1] * v[0] + R[4] * v[1] + R[7] * v[2],
-          R[2] * v[0] + R[5] * v[1] + R[8] * v[2]};
-}
-M9 mat_mul(const M9 &A, const M9 &B)
-{
-  M9 C{};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k) C[3 * i + j] += A[3 * i + k] * B[3 * k + j];
-  return C;
-}
-V3 cross(const double *a, const double *b)
-{
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-
-// Rotation matrix (row-major) <-> unit quaternion (w, x, y, z), for the sub-step slerp.
-std::array<double, 4> quat_from(const M9 &R)
-{
-  std::array<double, 4> q{};
-  const double tr = R[0] + R[4] + R[8];
-  if (tr > 0) {
-    const double s = 2.0 * std::sqrt(tr + 1.0);
-    q = {0.25 * s, (R[7] - R[5]) / s, (R[2] - R[6]) / s, (R[3] - R[1]) / s};
-  } else if (R[0] > R[4] && R[0] > R[8]) {
-    const double s = 2.0 * std::sqrt(1.0 + R[0] - R[4] - R[8]);
-    q = {(R[7] - R[5]) / s, 0.25 * s, (R[1] + R[3]) / s, (R[2] + R[6]) / s};
-  } else if (R[4] > R[8]) {
-    const double s = 2.0 * std::sqrt(1.0 + R[4] - R[0] - R[8]);
-    q = {(R[2] - R[6]) / s, (R[1] + R[3]) / s, 0.25 * s, (R[5] + R[7]) / s};
-  } else {
-    const double s = 2.0 * std::sqrt(1.0 + R[8] - R[0] - R[4]);
-    q = {(R[3] - R[1]) / s, (R[2] + R[6]) / s, (R[5] + R[7]) / s, 0.25 * s};
-  }
-  const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-  for (double &c : q) c /= n;
-  return q;
-}
-M9 mat_from(const std::array<double, 4> &q)
-{
-  const double w = q[0], x = q[1], y = q[2], z = q[3];
-  return {1 - 2 * (y * y + z * z), 2 * (x * y - z * w),     2 * (x * z + y * w),
-          2 * (x * y + z * w),     1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
-          2 * (x * z - y * w),     2 * (y * z + x * w),     1 - 2 * (x * x + y * y)};
-}
-M9 slerp(const M9 &A, const M9 &B, double s)
-{
-  if (s >= 1.0) return B;
-  if (s <= 0.0) return A;
-  auto qa = quat_from(A), qb = quat_from(B);
-  double d = qa[0] * qb[0] + qa[1] * qb[1] + qa[2] * qb[2] + qa[3] * qb[3];
-  if (d < 0) {
-    for (double &c : qb) c = -c;
-    d = -d;
-  }
-  std::array<double, 4> q{};
-  if (d > 0.9999995) {
-    for (int i = 0; i < 4; ++i) q[i] = qa[i] + s * (qb[i] - qa[i]);
-  } else {
-    const double th = std::acos(d), st = std::sin(th);
-    const double a = std::sin((1 - s) * th) / st, b = std::sin(s * th) / st;
-    for (int i = 0; i < 4; ++i) q[i] = a * qa[i] + b * qb[i];
-  }
-  const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-  for (double &c : q) c /= n;
-  return mat_from(q);
-}
+using math::cross;  // the math layer (math/rotation.h): MBDyn's row-major orientations
+using math::mat_mul;
+using math::mat_t_vec;
+using math::mat_vec;
+using math::slerp;
 
 bool parse_yes_no(const std::string &kw, const std::string &v, const std::string &prefix, Error *error)
 {
@@ -1056,18 +988,6 @@ double FixMBDyn::pose_change(const std::vector<Pose> &a, const std::vector<Pose>
   return d;
 }
 
-namespace {
-// Rotation by the rotation vector th (global axes), Rodrigues' formula, row-major.
-M9 rotation_of(const V3 &th)
-{
-  const double a = std::sqrt(th[0] * th[0] + th[1] * th[1] + th[2] * th[2]);
-  if (a < 1e-300) return {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  const double k[3] = {th[0] / a, th[1] / a, th[2] / a}, s = std::sin(a), c = 1 - std::cos(a);
-  return {1 - c * (k[1] * k[1] + k[2] * k[2]), -s * k[2] + c * k[0] * k[1], s * k[1] + c * k[0] * k[2],
-          s * k[2] + c * k[0] * k[1], 1 - c * (k[0] * k[0] + k[2] * k[2]), -s * k[0] + c * k[1] * k[2],
-          -s * k[1] + c * k[0] * k[2], s * k[0] + c * k[1] * k[2], 1 - c * (k[0] * k[0] + k[1] * k[1])};
-}
-}  // namespace
 
 FixMBDyn::PredictorEvidence FixMBDyn::follows_crank_nicolson(const std::vector<Pose> &prev, const std::vector<Pose> &msg,
                                                              double T)
@@ -1140,8 +1060,8 @@ void FixMBDyn::correct_prediction(const std::vector<Pose> &msg)
       back[c] = -T * P.w[c];
       half[c] = 0.5 * T * dw;
     }
-    A.R = mat_mul(rotation_of(back), P.R);
-    B.R = mat_mul(rotation_of(half), P.R);
+    A.R = mat_mul(math::rotation_of_vector(back), P.R);
+    B.R = mat_mul(math::rotation_of_vector(half), P.R);
     poseA_[k] = A;
     poseB_[k] = B;
   }

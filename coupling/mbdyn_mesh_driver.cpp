@@ -1,6 +1,7 @@
 #include "mbdyn_mesh_driver.h"
 
 #include "fix_mesh_surface.h"
+#include "math/rotation.h"
 
 #include "error.h"
 #include "lammps.h"
@@ -14,35 +15,8 @@ namespace {
 using V3 = MbdynMeshDriver::V3;
 using M9 = MbdynMeshDriver::M9;
 
-V3 cross(const V3 &a, const V3 &b)
-{
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-
-// Rotation angle and unit axis of R (row-major); angle 0 when R is the identity.
-double axis_angle(const M9 &R, V3 &axis)
-{
-  const V3 s{R[7] - R[5], R[2] - R[6], R[3] - R[1]};  // 2 sin(a) axis
-  const double sn = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
-  const double c = 0.5 * (R[0] + R[4] + R[8] - 1.0);
-  const double a = std::atan2(0.5 * sn, c);
-  if (sn > 1e-12) {
-    axis = {s[0] / sn, s[1] / sn, s[2] / sn};
-    return a;
-  }
-  if (c > 0) {
-    axis = {0, 0, 1};
-    return 0.0;
-  }
-  // a = pi: the axis from the largest diagonal of (R + I) / 2
-  int k = 0;
-  for (int i = 1; i < 3; ++i)
-    if (R[4 * i] > R[4 * k]) k = i;
-  V3 col{R[k] + (k == 0), R[3 + k] + (k == 1), R[6 + k] + (k == 2)};
-  const double n = std::sqrt(col[0] * col[0] + col[1] * col[1] + col[2] * col[2]);
-  axis = {col[0] / n, col[1] / n, col[2] / n};
-  return a;
-}
+using math::axis_angle;  // the math layer (math/rotation.h)
+using math::cross;
 
 }  // namespace
 

@@ -23,6 +23,10 @@ inline Vec3 cross(const Vec3 &a, const Vec3 &b)
 {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
+inline Vec3 cross(const double *a, const double *b)
+{
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
 inline double norm(const Vec3 &a) { return std::sqrt(dot(a, a)); }
 // a * (1/s): LIGGGHTS divides vectors by multiplying with the reciprocal.
 inline Vec3 div_by(const Vec3 &a, double s)

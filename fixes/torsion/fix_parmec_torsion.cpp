@@ -69,11 +69,7 @@ ts::Mat3 rotation(const double *q)
   return {r.m[0][0], r.m[0][1], r.m[0][2], r.m[1][0], r.m[1][1], r.m[1][2], r.m[2][0], r.m[2][1], r.m[2][2]};
 }
 
-sp::Vec3 apply_t(const ts::Mat3 &m, const sp::Vec3 &v)
-{
-  return {m[0] * v[0] + m[3] * v[1] + m[6] * v[2], m[1] * v[0] + m[4] * v[1] + m[7] * v[2],
-          m[2] * v[0] + m[5] * v[1] + m[8] * v[2]};
-}
+sp::Vec3 apply_t(const ts::Mat3 &m, const sp::Vec3 &v) { return math::mat_t_vec(m, v.data()); }
 
 sp::Vec3 vec(const double *a) { return {a[0], a[1], a[2]}; }
 

@@ -3,6 +3,7 @@
 
 #include <array>
 
+#include "math/rotation.h"
 #include "spring_vec3.h"
 
 namespace dembridge::torsion {
@@ -10,10 +11,7 @@ namespace dembridge::torsion {
 using springs::Vec3;
 using Mat3 = std::array<double, 9>;  // row-major rotation matrix Λ (reference -> current)
 
-inline Vec3 apply(const Mat3& m, const Vec3& v) {
-  return {m[0] * v[0] + m[1] * v[1] + m[2] * v[2], m[3] * v[0] + m[4] * v[1] + m[5] * v[2],
-          m[6] * v[0] + m[7] * v[1] + m[8] * v[2]};
-}
+inline Vec3 apply(const Mat3& m, const Vec3& v) { return math::mat_vec(m, v.data()); }
 inline Mat3 identity() { return {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0}; }
 
 // Unit roll (x), pitch (y = z × x) and yaw (z) directions.

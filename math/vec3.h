@@ -19,14 +19,11 @@ inline Vec3 operator+(const Vec3 &a, const Vec3 &b) { return add(a, b); }
 inline Vec3 operator-(const Vec3 &a, const Vec3 &b) { return sub(a, b); }
 inline Vec3 operator*(double s, const Vec3 &a) { return {s * a[0], s * a[1], s * a[2]}; }
 inline double dot(const Vec3 &a, const Vec3 &b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-inline Vec3 cross(const Vec3 &a, const Vec3 &b)
-{
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
 inline Vec3 cross(const double *a, const double *b)
 {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
+inline Vec3 cross(const Vec3 &a, const Vec3 &b) { return cross(a.data(), b.data()); }
 inline double norm(const Vec3 &a) { return std::sqrt(dot(a, a)); }
 // a * (1/s): LIGGGHTS divides vectors by multiplying with the reciprocal.
 inline Vec3 div_by(const Vec3 &a, double s)

@@ -1,9 +1,13 @@
-// The mesh fixes' name for the plugin's argument reader (fixes/command_args.h).
+// The mesh fixes' name for the plugin's argument reader (fixes/command_args.h); a class, not an alias,
+// so that the mesh headers can declare it ahead.
 #pragma once
 
 #include "command_args.h"
 #include "mesh_vec3.h"
 
 namespace dembridge {
-using MeshArgs = CommandArgs;
+class MeshArgs : public CommandArgs {
+ public:
+  using CommandArgs::CommandArgs;
+};
 }  // namespace dembridge

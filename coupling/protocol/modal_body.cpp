@@ -1,5 +1,7 @@
 #include "modal_body.h"
 
+#include "math/rotation.h"
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -8,19 +10,11 @@ namespace dembridge::mbdyn {
 
 namespace {
 
-using V3 = std::array<double, 3>;
-
-V3 mul(const Matrix3& R, const V3& a) {
-  return {R[0] * a[0] + R[1] * a[1] + R[2] * a[2], R[3] * a[0] + R[4] * a[1] + R[5] * a[2],
-          R[6] * a[0] + R[7] * a[1] + R[8] * a[2]};
-}
-V3 mul_transposed(const Matrix3& R, const V3& a) {
-  return {R[0] * a[0] + R[3] * a[1] + R[6] * a[2], R[1] * a[0] + R[4] * a[1] + R[7] * a[2],
-          R[2] * a[0] + R[5] * a[1] + R[8] * a[2]};
-}
-V3 cross(const V3& a, const V3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
+using V3 = math::Vec3;
+// R a, Rᵀ a and a × b from the math layer (R row-major, sums in index order)
+V3 mul(const Matrix3& R, const V3& a) { return math::mat_vec(R, a.data()); }
+V3 mul_transposed(const Matrix3& R, const V3& a) { return math::mat_t_vec(R, a.data()); }
+using math::cross;
 
 void check_modes(const ModalBody& body, const ModalKinematics& k) {
   if (k.q.size() != body.num_modes || k.qdot.size() != body.num_modes)

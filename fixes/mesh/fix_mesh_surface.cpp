@@ -12,6 +12,7 @@
 #include "atom.h"
 #include "comm.h"
 #include "domain.h"
+#include "mesh_box_extent.h"
 #include "error.h"
 #include "modify.h"
 #include "neighbor.h"
@@ -175,6 +176,7 @@ void FixMeshSurface::init()
     if (auto *mv = dynamic_cast<FixMoveMesh *>(f); mv && mv->mesh_id() == id) movers_.push_back(mv);
   if (conveyor_ && !movers_.empty())
     error->all(FLERR, std::string("fix ") + style + " (id " + id + "): surface_vel/surface_ang_vel cannot be combined with fix move/mesh");
+  widen_shrink_wrap_minimum(domain, *mesh_, atom->natoms);  // before the setup's reset_box, as LIGGGHTS's box_extent
   check_domain();
   if (wear_) {
     const std::string caller = std::string("fix ") + style + " (id " + id + ") wear finnie";

@@ -15,7 +15,8 @@ struct CellKey {
 struct CellHash {
   std::size_t operator()(const CellKey &c) const
   {
-    return std::size_t(c.i * 73856093) ^ std::size_t(c.j * 19349663) ^ std::size_t(c.k * 83492791);
+    // unsigned products: the same bits as the wrapped signed ones, without the overflow
+    return (std::size_t(c.i) * 73856093u) ^ (std::size_t(c.j) * 19349663u) ^ (std::size_t(c.k) * 83492791u);
   }
 };
 
@@ -30,7 +31,12 @@ std::vector<std::array<int, 3>> index_nodes(const std::vector<TriangleNodes> &tr
   std::unordered_map<CellKey, std::vector<int>, CellHash> grid;
   std::vector<Vec3> unique;
   std::vector<std::array<int, 3>> ids(tris.size());
-  auto cell_of = [cell](double x) { return std::int64_t(std::floor(x / cell)); };
+  // Cells are only a lookup aid: coordinates beyond +-2^62 cells (1e300 in a bad file, refused later by the
+  // mesh checks) share the outermost cell instead of overflowing the integer key.
+  auto cell_of = [cell](double x) {
+    const double c = std::floor(x / cell), lim = 4611686018427387904.0;
+    return std::int64_t(c > lim ? lim : (c < -lim ? -lim : c));
+  };
   for (std::size_t t = 0; t < tris.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       const Vec3 &p = tris[t][k];

@@ -1,6 +1,6 @@
 """Runs the settling demo on 2 MPI ranks with the dembridge plugin and plots the result.
 
-Usage: python run_demo.py [--plugin build/dembridgeplugin.so] [--np 2] [--out examples/settle/out]
+Usage: python run_demo.py [--plugin build/dembridgeplugin.so] [--np 2] [--out examples/settle/out] [--var NAME VALUE]...
 Outputs: out/settle.dump (OVITO reads it), out/log.lammps, out/settle.png.
 """
 import argparse
@@ -19,11 +19,14 @@ def main():
     ap.add_argument("--plugin", default=dembridge.plugin_path())
     ap.add_argument("--np", type=int, default=2)
     ap.add_argument("--out", default=os.path.join(HERE, "out"))
+    ap.add_argument("--var", nargs=2, action="append", default=[], metavar=("NAME", "VALUE"),
+                    help="a deck variable (nx, ny, nz, steps): a smaller or shorter run")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     log = os.path.join(a.out, "log.lammps")
     cmd = [dembridge.mpiexec(), "-n", str(a.np), dembridge.lmp_executable(), "-in", os.path.join(HERE, "in.settle"),
-           "-var", "plugin", os.path.abspath(a.plugin), "-var", "out", a.out, "-log", log, "-screen", "none"]
+           "-var", "plugin", os.path.abspath(a.plugin), "-var", "out", a.out, "-log", log]
+    cmd += [w for name, value in a.var for w in ("-var", name, value)]
     print("running:", " ".join(cmd), flush=True)
     subprocess.run(cmd, check=True, cwd=HERE, timeout=600)
 

@@ -69,6 +69,11 @@ def decks():
 _MARKER = re.compile(r"^\s*<!--\s*docs-test:\s*(?P<how>deck|lines|not run:)\s*(?P<what>.*?)\s*-->\s*$")
 
 
+def line_before(lines, n):
+    """The last non-blank line before the fence on line n (1-based) of a page: where a docs-test marker goes."""
+    return next((lines[k] for k in range(n - 2, -1, -1) if lines[k].strip()), "")
+
+
 def is_synopsis(body):
     words = body.split()
     return len(words) > 1 and words[1] == "ID"
@@ -83,7 +88,6 @@ def fragments():
         for n, lang, body in blocks(p):
             if lang != "lammps-fragment" or is_synopsis(body):
                 continue
-            prev = next((lines[k] for k in range(n - 2, -1, -1) if lines[k].strip()), "")
-            m = _MARKER.match(prev)
+            m = _MARKER.match(line_before(lines, n))
             out.append((f"{rel(p)}:{n}", body, (m.group("how").rstrip(":"), m.group("what")) if m else None))
     return out

@@ -7,6 +7,7 @@ import json
 import math
 import os
 import subprocess
+import sys
 
 import pytest
 
@@ -694,12 +695,17 @@ def test_unspring_bad_input(name):
 # the examples run and do what their comments say
 
 
-@pytest.mark.parametrize("name", ["in.rocking_block", "in.failing_chain"])
-def test_examples(tmp_path, name):
+@pytest.mark.parametrize("name,plot", [("in.rocking_block", "plot_rocking.py"), ("in.failing_chain", "plot_failing_chain.py")])
+def test_examples(tmp_path, name, plot):
+    """The commands of examples/torsion/README.md (lmp -in DECK && python PLOT) in a scratch folder."""
     src = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "torsion", name)
     p = subprocess.run([lmp_executable(), "-in", src, "-var", "plugin", plugin_path(), "-log", "none",
                         "-screen", "none", "-nocite"], cwd=tmp_path, capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stdout + p.stderr
+    p = subprocess.run([sys.executable, os.path.join(os.path.dirname(src), plot)], cwd=tmp_path, capture_output=True,
+                       text=True, timeout=300, env=dict(os.environ, MPLBACKEND="Agg"))
+    png = tmp_path / plot.replace("plot_", "").replace(".py", ".png").replace("rocking", "rocking_block")
+    assert p.returncode == 0 and png.stat().st_size > 10000, p.stdout + p.stderr
     if name == "in.rocking_block":
         rows = list(csv.DictReader(open(tmp_path / "torsion_history.csv")))
         tilt = [math.hypot(float(r["trq1_ROLL"]), float(r["trq1_PITCH"])) for r in rows]

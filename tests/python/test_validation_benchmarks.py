@@ -10,6 +10,7 @@ examples/validation/out/). Figures and commands: doc/validation.md.
    (rests iff tan θ ≤ μr, otherwise a = (5/7) g (sin θ − μr cos θ)).
 6. sjkr cohesion: F_coh = cohesionEnergyDensity × π a²; equilibrium overlap of a cohesive pair.
 """
+import functools
 import math
 import os
 import sys
@@ -25,6 +26,13 @@ import cohesion_sjkr  # noqa: E402
 from val_common import out_path, rel  # noqa: E402
 
 TOL = 0.01
+
+# each benchmark runs once: the tests below and report.py (test_report_writes_the_table) share its results
+for _mod, _names in ((chung_ooi, ("test1", "test2", "test3", "test4")), (ai_rolling, ("flat", "slope")),
+                     (cohesion_sjkr, ("run_all",))):
+    for _name in _names:
+        setattr(_mod, _name, functools.cache(getattr(_mod, _name)))
+import report  # noqa: E402  (after the caching: it calls the benchmarks through their modules)
 
 
 def close(measured, closed, tol=TOL):
@@ -164,3 +172,17 @@ def test_sjkr_cohesive_force_is_energy_density_times_contact_area():
     for w in eq:
         assert close(w["delta_eq"], w["delta_eq_closed"]), w
     assert os.path.exists(out_path("cohesion_sjkr.png"))
+
+
+def test_report_writes_the_table(capsys):
+    """examples/validation/report.py (the command of its README) on the results above: one table row per
+    quantity, every asserted one within the tolerance of the tests above."""
+    report.main()
+    printed = capsys.readouterr().out
+    table = open(out_path("validation_table.md")).read()
+    assert table in printed
+    rows = [r.split("|")[1:-1] for r in table.splitlines()[2:]]
+    assert len(rows) > 40
+    for bench, quantity, _, _, err in rows:
+        if "not asserted" not in quantity and "spec's computed value" not in quantity and err.strip() != "–":
+            assert abs(float(err)) <= TOL, (bench, quantity, err)

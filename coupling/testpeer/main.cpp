@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "mbdyn_test_peer.h"
+#include "modal_peer.h"
 
 using namespace dembridge::mbdyn::testpeer;
 
@@ -45,6 +46,10 @@ const char* kUsage =
     "  --trajectory FILE        write t, then per node x y z vx vy vz theta theta_dot\n"
     "  --file-in IN --file-out OUT [--file-precision P (16)]   MBDyn's file communicator instead of the\n"
     "                           socket (loose, send after predict no; orientation none or matrix)\n"
+    "  --modal-mass m1,...,mM --modal-stiffness k1,... --modal-damping c1,... [--modal-q0 q1,...]\n"
+    "                           MBDyn's `external modal, type, modal` on a clamped modal node instead:\n"
+    "                           M q'' + C q' + K q = p per mode (--path, --steps, --dt, --trajectory:\n"
+    "                           t, then q, q', q'', p per mode)\n"
     "  --kinematics-log FILE    one line per kinematics message: index, command, then per point\n"
     "                           x(3) R(9, row by row) v(3) w(3), global frame\n";
 
@@ -82,6 +87,49 @@ V3 parse_v3(const std::string& s) {
   return v;
 }
 
+std::vector<double> parse_list(const std::string& option, const std::string& text) {
+  std::vector<double> v;
+  std::string item;
+  std::istringstream in(text);
+  while (std::getline(in, item, ',')) v.push_back(parse_double(option, item));
+  if (v.empty()) usage_error(option + " expects a comma-separated list of numbers");
+  return v;
+}
+
+int run_modal(const PeerSetup& s, ModalPeerSetup m, const std::string& trajectory_file) {
+  const std::size_t n = m.mass.size();
+  if (m.stiffness.size() != n || m.damping.size() != n || (!m.q0.empty() && m.q0.size() != n))
+    usage_error("--modal-mass, --modal-stiffness, --modal-damping and --modal-q0 need one value per mode");
+  for (double mass : m.mass)
+    if (!(mass > 0)) usage_error("--modal-mass expects positive modal masses");
+  if (s.place.unix_path.empty()) usage_error("the modal peer needs --path");
+  m.place = s.place;
+  m.steps = s.steps;
+  m.dt = s.dt;
+  m.accept_timeout_s = s.accept_timeout_s;
+  m.io_timeout_s = s.io_timeout_s;
+  const std::string path = m.place.unix_path;
+  m.on_listening = [path]() {
+    std::cout << "mbdyn_testpeer: listening on unix socket " << path << " (external modal, type modal)" << std::endl;
+  };
+  const ModalPeerOutcome out = run_modal_test_peer(m);
+  if (!trajectory_file.empty()) {
+    std::ofstream f(trajectory_file);
+    f.precision(17);
+    f << "# t, then q (per mode), q', q'', p (the generalized forces the step was solved with)\n";
+    for (const ModalSample& r : out.trajectory) {
+      f << r.t;
+      for (const auto* v : {&r.q, &r.qdot, &r.qddot, &r.p})
+        for (double x : *v) f << ' ' << x;
+      f << '\n';
+    }
+  }
+  std::cout << "mbdyn_testpeer: exit " << out.exit_status << ": " << out.log << " (" << out.kinematics_sent
+            << " kinematics messages, " << (out.trajectory.empty() ? 0 : out.trajectory.size() - 1) << " steps)"
+            << std::endl;
+  return out.exit_status;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -92,6 +140,7 @@ int main(int argc, char** argv) {
   std::vector<V3> x0, v0;
   std::vector<std::pair<double, double>> spin0;
   double tilt = -1e300;
+  ModalPeerSetup modal;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -171,6 +220,10 @@ int main(int argc, char** argv) {
       else usage_error("unknown fault " + f);
     } else if (a == "--fault-message") s.fault_message = static_cast<int>(parse_integer(a, value(), 0, INT_MAX));
     else if (a == "--trajectory") trajectory_file = value();
+    else if (a == "--modal-mass") modal.mass = parse_list(a, value());
+    else if (a == "--modal-stiffness") modal.stiffness = parse_list(a, value());
+    else if (a == "--modal-damping") modal.damping = parse_list(a, value());
+    else if (a == "--modal-q0") modal.q0 = parse_list(a, value());
     else if (a == "--kinematics-log") s.kinematics_log = value();
     else if (a == "--file-in") s.files.in_path = value();
     else if (a == "--file-out") s.files.out_path = value();
@@ -180,6 +233,7 @@ int main(int argc, char** argv) {
       return 0;
     } else usage_error("unknown option " + a);
   }
+  if (!modal.mass.empty() || !modal.stiffness.empty()) return run_modal(s, modal, trajectory_file);
   const bool files = !s.files.in_path.empty() || !s.files.out_path.empty();
   if (files && (s.files.in_path.empty() || s.files.out_path.empty())) usage_error("give both --file-in and --file-out");
   if (files && (s.coupling != CouplingMode::Loose || s.shape.reference_node || s.shape.accelerations ||

@@ -16,7 +16,6 @@ final time of --steps; MBDyn's outputs are gate.mov, gate.out, ... Nothing is wr
 import argparse
 import os
 import shutil
-import stat
 import subprocess
 import sys
 
@@ -24,6 +23,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "python"))
 import dembridge  # noqa: E402
+from dembridge.coupled_run import clear_stale_socket, finish_mbdyn_side  # noqa: E402
 
 # The MBDyn model of gate.mbd, for the test peer.
 HINGE = (0.002, 0.0, 0.1)
@@ -103,10 +103,7 @@ if __name__ == "__main__":
     out = os.path.abspath(args.out)
     os.makedirs(out, exist_ok=True)
     sock = os.path.join(out, "mbdyn.sock")
-    if os.path.lexists(sock):
-        if not stat.S_ISSOCK(os.lstat(sock).st_mode):
-            sys.exit(f"run_demo: {sock} exists and is not a socket; remove it or choose another --out")
-        os.unlink(sock)  # a killed run's socket: MBDyn would refuse to start on it
+    clear_stale_socket(sock, "run_demo")
     shutil.copy(os.path.join(HERE, "gate.stl"), os.path.join(out, "gate.stl"))
     mb = start_mbdyn(out, sock, args.steps)
     cmd = [dembridge.lmp_executable(), "-in", os.path.join(HERE, "in.gate"), "-var", "plugin", os.path.abspath(args.plugin),
@@ -115,11 +112,7 @@ if __name__ == "__main__":
     if args.np > 1:
         cmd = [dembridge.mpiexec(), "-n", str(args.np)] + cmd
     lmp = subprocess.run(cmd, cwd=out, stdin=subprocess.DEVNULL)
-    try:
-        mb.wait(timeout=60)
-    except subprocess.TimeoutExpired:
-        mb.kill()
-        mb.wait()
+    finish_mbdyn_side(mb)
     if lmp.returncode != 0:
         sys.exit(f"run_demo: LAMMPS failed (status {lmp.returncode}); see {out}/log.lammps and {out}/mbdyn.log")
     # MBDyn: 0 when it reached its final time, 2 when LAMMPS ended first and asked it to stop.

@@ -26,7 +26,7 @@ namespace dembridge {
 
 namespace {
 const char *kUsage = "fix mbdyn path FILE modal FEM-FILE [modes N [list m ...]] [origin LABEL] "
-                     "[type all|rigid|modal] [match D] [coupling loose] [connect_timeout S] [io_timeout S]";
+                     "[type all|rigid|modal] [match D] [mesh MESH-ID] [coupling loose] [connect_timeout S] [io_timeout S]";
 }
 
 FixMBDynModal::FixMBDynModal(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
@@ -69,6 +69,8 @@ FixMBDynModal::FixMBDynModal(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
     } else if (k == "match") {
       match_ = utils::numeric(FLERR, value("a distance"), false, lmp);
       if (!(match_ >= 0)) error->all(FLERR, "fix mbdyn modal: expected match >= 0, got {}", match_);
+    } else if (k == "mesh") {
+      mesh_id_ = value("the ID of a fix mesh/surface/stress");
     } else if (k == "coupling") {
       const std::string c = value("loose");
       if (c != "loose")
@@ -117,6 +119,13 @@ void FixMBDynModal::fail_if_rank0_failed(std::string err)
 
 void FixMBDynModal::init()
 {
+  if (!mesh_id_.empty()) {  // the mesh is carried instead of the group's atoms
+    if (!deform_) {
+      deform_ = std::make_unique<MbdynDeformDriver>();
+      deform_->attach(lmp, mesh_id_, "fix mbdyn modal: mesh " + mesh_id_);
+    }
+    return;
+  }
   if (group->count(igroup) == 0) fail("group '" + std::string(group->names[igroup]) + "' has no atoms to carry");
 }
 
@@ -176,6 +185,11 @@ bool FixMBDynModal::receive()
 // in the FEM frame of the first message's pose (type modal: the global frame, modal node at 0).
 void FixMBDynModal::bind_atoms()
 {
+  if (deform_) {  // every FEM node is a point, in node order (points are FEM frame positions)
+    body_ = mb::map_points_to_fem_nodes(fem_, fem_.node_xyz, origin_, 0.0);
+    bound_ = true;
+    return;
+  }
   const int nlocal = atom->nlocal;
   std::vector<double> mine;  // tag, x, y, z
   for (int i = 0; i < nlocal; ++i)
@@ -228,6 +242,24 @@ void FixMBDynModal::place_atoms()
   } catch (const std::exception &e) {
     fail(e.what());
   }
+  if (deform_) {
+    std::vector<MbdynDeformDriver::V3> xs(x_.size() / 3), vs(x_.size() / 3);
+    for (std::size_t p = 0; p < xs.size(); ++p)
+      for (int c = 0; c < 3; ++c) {
+        xs[p][c] = x_[3 * p + c];
+        vs[p][c] = v_[3 * p + c];
+      }
+    if (!mesh_bound_) {
+      const std::string why = deform_->bind(xs, match_);
+      if (!why.empty())
+        fail("mesh " + mesh_id_ + ": " + why + " (match " + std::to_string(match_) +
+             "; each vertex of the mesh as placed must be at one FEM node of the first message's pose; point n is the "
+             "n-th node of the FEM file)");
+      mesh_bound_ = true;
+    }
+    deform_->move_to(xs, vs);
+    return;
+  }
   for (int i = 0; i < atom->nlocal; ++i) {
     if (!(atom->mask[i] & groupbit)) continue;
     const auto it = point_of_.find(atom->tag[i]);
@@ -241,13 +273,24 @@ void FixMBDynModal::place_atoms()
 
 void FixMBDynModal::answer()
 {
-  std::vector<double> local(3 * tags_.size(), 0.0), f(3 * tags_.size(), 0.0);
-  for (int i = 0; i < atom->nlocal; ++i) {
-    if (!(atom->mask[i] & groupbit)) continue;
-    const std::size_t p = point_of_.at(atom->tag[i]);
-    for (int c = 0; c < 3; ++c) local[3 * p + c] += atom->f[i][c];
+  std::vector<double> f;
+  if (deform_) {  // the wall contacts split to the vertices (the FEM nodes), summed in a rank-free order
+    const std::size_t n = fem_.num_nodes();
+    std::vector<double> out6(6 * n, 0.0);
+    deform_->loads(out6.data());
+    f.resize(3 * n);
+    for (std::size_t p = 0; p < n; ++p)
+      for (int c = 0; c < 3; ++c) f[3 * p + c] = out6[6 * p + c];
+  } else {
+    std::vector<double> local(3 * tags_.size(), 0.0);
+    f.assign(3 * tags_.size(), 0.0);
+    for (int i = 0; i < atom->nlocal; ++i) {
+      if (!(atom->mask[i] & groupbit)) continue;
+      const std::size_t p = point_of_.at(atom->tag[i]);
+      for (int c = 0; c < 3; ++c) local[3 * p + c] += atom->f[i][c];
+    }
+    MPI_Allreduce(local.data(), f.data(), static_cast<int>(f.size()), MPI_DOUBLE, MPI_SUM, world);
   }
-  MPI_Allreduce(local.data(), f.data(), static_cast<int>(f.size()), MPI_DOUBLE, MPI_SUM, world);
   try {
     last_ = mb::project_modal_loads(body_, kin_, x_, f);
   } catch (const std::exception &e) {

@@ -11,6 +11,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "mbdyn_deform_driver.h"
 #include "modal_body.h"
 #include "modal_message.h"
 
@@ -40,6 +41,7 @@ class FixMBDynModal : public LAMMPS_NS::Fix {
   void bind_atoms();
   bool receive();  // false: MBDyn ended the simulation
   void place_atoms();
+  void bind_mesh();    // mesh MESH-ID: its vertices matched to the FEM nodes at the first pose
   void answer();
 
   // configuration
@@ -48,6 +50,8 @@ class FixMBDynModal : public LAMMPS_NS::Fix {
   mbdyn::FemModel fem_;
   std::string origin_;
   double match_ = 1e-6;
+  std::string mesh_id_;                   // mesh MESH-ID: the FEM nodes drive its vertices
+  std::unique_ptr<MbdynDeformDriver> deform_;
   double connect_timeout_ = 60, io_timeout_ = 300;
 
   std::unique_ptr<mbdyn::SocketTransport> transport_;  // rank 0
@@ -58,7 +62,7 @@ class FixMBDynModal : public LAMMPS_NS::Fix {
   std::vector<double> x_, v_;  // 3P per message
   std::vector<unsigned char> buf_;
   mbdyn::ModalLoads last_;
-  bool bound_ = false, ended_ = false, connected_ = false;
+  bool bound_ = false, mesh_bound_ = false, ended_ = false, connected_ = false;
   long long messages_ = 0;
 };
 

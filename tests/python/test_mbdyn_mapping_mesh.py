@@ -24,6 +24,7 @@ import pytest
 
 from dembridge import plugin_path
 from mbdyn_transcripts import FakeMbdyn
+from gran_deck import HOOKE_ONE_TYPE
 from test_fix_mbdyn import error_line, parse_thermo, run_lammps
 from test_mbdyn_refnode_forces import sockdir  # noqa: F401 (the fixture: a short folder for the socket)
 
@@ -91,13 +92,7 @@ comm_modify vel yes
 region box block -0.2 1.8 -0.3 0.3 -0.2 0.3 units box
 create_box 1 box
 {atoms}
-fix m1 all property/global youngsModulus peratomtype 5.e6
-fix m2 all property/global poissonsRatio peratomtype 0.3
-fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5
-fix m4 all property/global coefficientFriction peratomtypepair 1 0.4
-fix m5 all property/global characteristicVelocity scalar 1.0
-pair_style gran model hooke tangential history
-pair_coeff * *
+{HOOKE_ONE_TYPE}
 neighbor 0.005 bin
 timestep 0.002
 {mesh}

@@ -12,6 +12,7 @@ import tempfile
 import pytest
 
 from dembridge import plugin_path
+from gran_deck import HOOKE_ONE_TYPE
 from test_fix_mbdyn import PEER, Peer, parse_thermo, run_lammps
 
 pytestmark = pytest.mark.skipif(PEER is None or not os.path.exists(plugin_path()),
@@ -54,13 +55,7 @@ create_atoms 1 random 40 12345 cloud overlap 0.07 maxtry 500
 set type 1 diameter 0.06
 set type 1 density 1000
 velocity all set 0 0 -3 units box
-fix m1 all property/global youngsModulus peratomtype 5.e6
-fix m2 all property/global poissonsRatio peratomtype 0.3
-fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5
-fix m4 all property/global coefficientFriction peratomtypepair 1 0.4
-fix m5 all property/global characteristicVelocity scalar 1.0
-pair_style gran model hooke tangential history
-pair_coeff * *
+{HOOKE_ONE_TYPE}
 neighbor 0.01 bin
 timestep 1e-4
 fix plate all mesh/surface/stress file plate.stl type 1 reference_point {REF[0]} {REF[1]} {REF[2]}

@@ -24,7 +24,7 @@ import pytest
 
 from dembridge import plugin_path
 from mbdyn_transcripts import FakeMbdyn
-from gran_deck import HOOKE_ONE_TYPE
+from gran_deck import GRAN_HEAD, HOOKE_ONE_TYPE
 from test_fix_mbdyn import error_line, parse_thermo, run_lammps
 from test_mbdyn_refnode_forces import sockdir  # noqa: F401 (the fixture: a short folder for the socket)
 
@@ -81,13 +81,7 @@ def deck(sock, steps, fix_extra="", particles=True, procs="", dump=None, mesh_li
         atoms = "\n".join(f"create_atoms 1 single {x} {y} {RADIUS - 1e-3} units box" for x, y in PARTICLES)
         atoms += f"\nset type 1 diameter {2 * RADIUS}\nset type 1 density 100000\n"
     mesh = mesh_line or f"fix plate all mesh/surface/stress file {STL} type 1"
-    return f"""plugin load ${{plugin}}
-units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-newton off
-comm_modify vel yes
+    return f"""{GRAN_HEAD}
 {procs}
 region box block -0.2 1.8 -0.3 0.3 -0.2 0.3 units box
 create_box 1 box

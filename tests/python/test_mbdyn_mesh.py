@@ -12,7 +12,7 @@ import tempfile
 import pytest
 
 from dembridge import plugin_path
-from gran_deck import HOOKE_ONE_TYPE
+from gran_deck import GRAN_HEAD, HOOKE_ONE_TYPE
 from test_fix_mbdyn import PEER, Peer, parse_thermo, run_lammps
 
 pytestmark = pytest.mark.skipif(PEER is None or not os.path.exists(plugin_path()),
@@ -40,13 +40,7 @@ endsolid plate
 
 
 def deck(sock, steps, procs=""):
-    return f"""plugin load ${{plugin}}
-units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-newton off
-comm_modify vel yes
+    return f"""{GRAN_HEAD}
 {procs}
 region box block -0.5 0.5 -0.5 0.5 -0.3 0.5 units box
 create_box 1 box

@@ -13,7 +13,7 @@ import subprocess
 import pytest
 
 from dembridge import plugin_path, read_dump_atoms
-from gran_deck import HOOKE_ONE_TYPE
+from gran_deck import GRAN_HEAD, HOOKE_ONE_TYPE
 from test_fix_mbdyn import PEER, error_line, run_lammps, sockdir  # noqa: F401 (fixture)
 from test_mbdyn_mapping_mesh import read_stl
 
@@ -59,13 +59,7 @@ def write_stl(path):
 def deck(sock, d, extra="", steps=STEPS):
     spheres = "\n".join(f"create_atoms 1 single {(i + 2 / 3) * H!r} {(j - 1 + 1 / 3) * H!r} {R + 1e-3!r} units box"
                         for i, j in CELLS)
-    return f"""plugin load ${{plugin}}
-units si
-atom_style sphere
-atom_modify map array
-boundary f f f
-newton off
-comm_modify vel yes
+    return f"""{GRAN_HEAD}
 region box block -0.1 0.5 -0.2 0.2 -0.2 0.2 units box
 create_box 1 box
 {spheres}

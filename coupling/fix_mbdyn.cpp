@@ -270,6 +270,12 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
       error->all(FLERR, prefix + "'mapping' supports 'reference_node no' only (the mapped points in the global frame)");
     if (o.nodal.has_rotation())
       error->all(FLERR, prefix + "'mapping' needs 'orientation none': MBDyn's mapped points carry no orientation");
+    if (o.nodal.labels)
+      error->all(FLERR, prefix + "'mapping' with 'labels yes' is not supported: MBDyn 1.7.3's external structural "
+                                 "mapping fails on its first load message whatever the peer sends (use labels no)");
+    if (o.nodal.accelerations)
+      error->all(FLERR, prefix + "'mapping' with 'accelerations yes' is not supported: MBDyn 1.7.3 refuses it with "
+                                 "static nodes and crashes while parsing it with dynamic ones (use accelerations no)");
   } else if (match_tolerance_given_) {
     error->all(FLERR, prefix + "'match_tolerance' is for 'mapping MESH-ID points M'");
   }

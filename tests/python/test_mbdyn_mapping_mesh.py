@@ -270,6 +270,10 @@ BAD = [
      "'mapping' supports 'reference_node no' only"),
     ("mesh id", "mapping nosuch points 15", "orientation none",
      "mesh ID 'nosuch' does not exist"),
+    ("labels", "mapping plate points 15 labels yes", "orientation none",
+     "'mapping' with 'labels yes' is not supported"),
+    ("accelerations", "mapping plate points 15 accelerations yes", "orientation none",
+     "'mapping' with 'accelerations yes' is not supported"),
 ]
 
 

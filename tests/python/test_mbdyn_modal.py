@@ -183,6 +183,8 @@ run 1
     ("body.fem", 0.0, "coupling tight", "expected coupling loose"),
     ("body.fem", 0.25, "type modal", "atom 1 at (0.25, 0, 0) is 0.25 from the nearest FEM node"),
     ("body.fem", 0.0, "modes 0", "expected modes >= 1, got 0"),
+    ("body.fem", 0.0, "substeps 4", "unknown keyword 'substeps'"),  # one MBDyn step per LAMMPS step
+    ("body.fem", 0.0, "mesh lid", "mesh ID 'lid' does not exist"),
 ])
 def test_bad_input_names_what_was_expected(sockdir, fem, x, extra, message):
     sock = os.path.join(sockdir, "none.sock")

@@ -266,10 +266,21 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
       if (!n.is_vertex)
         error->all(FLERR, prefix + "'mapping' and 'node " + n.text + "' together: with MBDyn's external structural "
                                    "mapping the mapped points are all the points (give either 'mapping' or 'node' entries)");
-    if (reference_body_ || o.nodal.reference_node)
-      error->all(FLERR, prefix + "'mapping' supports 'reference_node no' only (the mapped points in the global frame)");
-    if (o.nodal.has_rotation())
-      error->all(FLERR, prefix + "'mapping' needs 'orientation none': MBDyn's mapped points carry no orientation");
+    if (reference_body_)
+      error->all(FLERR, prefix + "'mapping' takes no 'reference atom|group' (the reference node's loads are the "
+                                 "total on the mapped points)");
+    if (o.nodal.reference_node) {
+      // MBDyn's `orientation` then selects the reference node's rotation; the points have none
+      if (!o.nodal.has_rotation())
+        error->all(FLERR, prefix + "'mapping' with 'reference_node yes' needs the reference node's 'orientation' "
+                                   "(matrix, vector or euler123, as MBDyn's element), not none");
+      o.nodal.mapping_reference = true;
+      o.nodal.reference_rotation = o.nodal.rotation;
+      o.nodal.rotation = mb::Rotation::None;
+    } else if (o.nodal.has_rotation()) {
+      error->all(FLERR, prefix + "'mapping' needs 'orientation none': MBDyn's mapped points carry no orientation "
+                                 "(with 'reference_node yes', 'orientation' is the reference node's)");
+    }
     if (o.nodal.labels)
       error->all(FLERR, prefix + "'mapping' with 'labels yes' is not supported: MBDyn 1.7.3's external structural "
                                  "mapping fails on its first load message whatever the peer sends (use labels no)");
@@ -611,7 +622,7 @@ void FixMBDyn::decode_poses(std::vector<Pose> &out)
   const mb::Kinematics &k = kinematics();
   const bool rot = options_->nodal.has_rotation();
   if (k.has_reference) {
-    ref_R_ = rot ? k.reference_rotation_matrix() : M9{1, 0, 0, 0, 1, 0, 0, 0, 1};
+    ref_R_ = k.reference_rotation != mb::Rotation::None ? k.reference_rotation_matrix() : M9{1, 0, 0, 0, 1, 0, 0, 0, 1};
     ref_x_ = k.reference.x;
   } else if (k.rotation == mb::Rotation::OrientationMatrix || !rot) {
     // MBDyn's default layout (global points, the matrix column-major on the wire) or no rotation:
@@ -651,7 +662,7 @@ void FixMBDyn::decode_poses(std::vector<Pose> &out)
     } else {
       // Points arrive relative to the reference node, in its frame (spec §4.3).
       const V3 &xr = k.reference.x, &vr = k.reference.v;
-      const V3 wr = rot ? k.reference.omega : V3{0, 0, 0};
+      const V3 wr = options_->nodal.record_has_omega() ? k.reference.omega : V3{0, 0, 0};
       const V3 d = mat_vec(ref_R_, x.data());
       const V3 wxd = cross(wr.data(), d.data());
       const V3 vv = mat_vec(ref_R_, v.data());
@@ -943,7 +954,7 @@ void FixMBDyn::send_answer(const std::vector<double> &loads6, bool converged, co
     // `rotate reference node forces, no`: the record in the global frame.
     const V3 zero{0, 0, 0};
     l.reference_force = !use_reference_forces_ ? zero : rotate_reference_forces_ ? mat_t_vec(ref_R_, F0.data()) : F0;
-    if (c.has_rotation())
+    if (c.record_has_omega())
       l.reference_moment = !use_reference_forces_ ? zero : rotate_reference_forces_ ? mat_t_vec(ref_R_, M0.data()) : M0;
   }
   // compute_array reads the answer itself when it holds all six global components

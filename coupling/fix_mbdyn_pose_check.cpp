@@ -64,6 +64,11 @@ void FixMBDyn::check_poses(const std::vector<Pose> &poses)
 {
   const mbdyn::Kinematics &k = kinematics();
   const std::string at = " in the message received at LAMMPS step " + std::to_string(update->ntimestep);
+  if (k.has_reference && options_->nodal.mapping_reference &&
+      k.reference_rotation == mbdyn::Rotation::OrientationMatrix) {
+    const std::string why = mbdyn::rotation_matrix_defect(k.reference_rotation_matrix());
+    if (!why.empty()) fail_all("the reference node's orientation matrix" + at + " " + why);
+  }
   if (k.rotation == mbdyn::Rotation::OrientationMatrix && options_->nodal.has_rotation()) {
     if (k.has_reference) {
       const std::string why = mbdyn::rotation_matrix_defect(k.reference_rotation_matrix());

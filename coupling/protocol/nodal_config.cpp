@@ -11,6 +11,7 @@ std::uint32_t NodalConfig::flags() const {
   if (reference_node) f |= flag::ReferenceNode;
   if (accelerations) f |= flag::Accelerations;
   if (labels) f |= flag::Labels;
+  if (mapping_reference) f |= static_cast<std::uint32_t>(reference_rotation) << 4;
   return f;
 }
 
@@ -61,11 +62,13 @@ std::size_t NodalConfig::label_block_bytes() const {
 
 std::size_t NodalConfig::reference_kinematics_bytes() const {
   if (!reference_node) return 0;
-  return (labels ? 8 : 0) + 8 * point_kinematics_doubles();
+  if (!mapping_reference) return (labels ? 8 : 0) + 8 * point_kinematics_doubles();
+  return (labels ? 4 : 0) + 8 * (3 + mbdyn::rotation_doubles(reference_rotation) + 6 + (accelerations ? 6 : 0));
 }
 
 std::size_t NodalConfig::reference_loads_bytes() const {
   if (!reference_node) return 0;
+  if (mapping_reference) return (labels ? 4 : 0) + 8 * 6;
   return (labels ? 8 : 0) + 8 * (has_rotation() ? 6 : 3);
 }
 
@@ -84,7 +87,8 @@ std::size_t NodalConfig::loads_payload_bytes() const {
 bool NodalConfig::operator==(const NodalConfig& o) const {
   return num_points == o.num_points && rotation == o.rotation &&
          accelerations == o.accelerations && labels == o.labels &&
-         reference_node == o.reference_node;
+         reference_node == o.reference_node && mapping_reference == o.mapping_reference &&
+         (!mapping_reference || reference_rotation == o.reference_rotation);
 }
 
 std::string NodalConfig::describe() const {
@@ -93,6 +97,7 @@ std::string NodalConfig::describe() const {
     << ", labels "
     << (labels ? "yes" : "no") << ", accelerations " << (accelerations ? "yes" : "no")
     << ", reference node " << (reference_node ? "yes" : "no");
+  if (mapping_reference) s << " (structural mapping, reference " << rotation_name(reference_rotation) << ")";
   return s.str();
 }
 

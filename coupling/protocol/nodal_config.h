@@ -16,6 +16,12 @@ struct NodalConfig {
   bool accelerations = false;
   bool labels = false;
   bool reference_node = false;
+  // MBDyn's `external structural mapping` with `reference node` (points: orientation none): the
+  // reference record carries the rotation chosen by the element's `orientation` (here
+  // reference_rotation, sent << 4 in the flags), always the angular velocity, no pad after its
+  // label; its loads record is always F0 and M0 (MBDyn's StructMappingExtForce).
+  bool mapping_reference = false;
+  Rotation reference_rotation = Rotation::None;
 
   // Flags sent in the negotiation. The reference-node rotation bits are left 0: external
   // structural ignores them and the verified refnode example is 0x216 (spec §3).
@@ -24,6 +30,9 @@ struct NodalConfig {
   static NodalConfig from_flags(std::uint32_t flags, std::uint32_t num_points);
 
   bool has_rotation() const { return rotation != Rotation::None; }
+  // The reference record's rotation, and whether it has an angular velocity and a moment.
+  Rotation record_rotation() const { return mapping_reference ? reference_rotation : rotation; }
+  bool record_has_omega() const { return mapping_reference || has_rotation(); }
   int rotation_doubles() const;  // nR
   // Doubles per point in the kinematics: x, orientation, v, [omega], [a, [omega_dot]].
   std::size_t point_kinematics_doubles() const;

@@ -62,21 +62,21 @@ void append_pad(std::vector<WireSpan>& out, std::size_t n) { out.push_back({null
 
 // The kinematics layout over k as it is (already shaped for config): the wire order of spec §4.1.
 void kinematics_spans(const NodalConfig& config, const Kinematics& k, std::vector<WireSpan>& out) {
-  const bool rot = config.has_rotation();
   const bool acc = config.accelerations;
   out.clear();
   if (config.reference_node) {
     const ReferenceKinematics& ref = k.reference;
+    const bool rrot = config.record_has_omega();
     if (config.labels) {
       append_span(out, &ref.label, 4);
-      append_pad(out, 4);  // ignored on receipt (spec §2)
+      if (!config.mapping_reference) append_pad(out, 4);  // ignored on receipt (spec §2)
     }
     append_span(out, ref.x.data(), 24);
-    if (rot) append_span(out, ref.orientation.data(), 8 * static_cast<std::size_t>(config.rotation_doubles()));
+    append_span(out, ref.orientation.data(), 8 * static_cast<std::size_t>(rotation_doubles(config.record_rotation())));
     append_span(out, ref.v.data(), 24);
-    if (rot) append_span(out, ref.omega.data(), 24);
+    if (rrot) append_span(out, ref.omega.data(), 24);
     if (acc) append_span(out, ref.a.data(), 24);
-    if (acc && rot) append_span(out, ref.omega_dot.data(), 24);
+    if (acc && rrot) append_span(out, ref.omega_dot.data(), 24);
   }
   if (config.num_points > 0) {
     if (config.labels) {
@@ -159,7 +159,7 @@ Matrix3 Kinematics::rotation_matrix(std::size_t i) const {
 }
 
 Matrix3 Kinematics::reference_rotation_matrix() const {
-  return matrix_from_wire(rotation, reference.orientation.data());
+  return matrix_from_wire(reference_rotation, reference.orientation.data());
 }
 
 Loads::Loads(const NodalConfig& config)
@@ -190,6 +190,7 @@ void kinematics_wire_spans(const NodalConfig& config, Kinematics& k, std::vector
   // k's vectors keep their capacity from message to message (no allocation, no zero fill); the
   // fields this layout lacks are emptied, as in a fresh Kinematics.
   k.rotation = config.rotation;
+  k.reference_rotation = config.record_rotation();
   k.has_reference = config.reference_node;
   k.reference = ReferenceKinematics{};
   k.labels.resize(config.labels ? n : 0);
@@ -211,7 +212,7 @@ void validate_kinematics(const NodalConfig& config, const Kinematics& k) {
     const ReferenceKinematics& ref = k.reference;
     const std::uint32_t* lab = config.labels ? &ref.label : nullptr;
     require_finite(ref.x.data(), 3, 1, "reference x", lab);
-    require_finite(ref.orientation.data(), nr, 1, "reference orientation", lab);
+    require_finite(ref.orientation.data(), rotation_doubles(config.record_rotation()), 1, "reference orientation", lab);
     require_finite(ref.v.data(), 3, 1, "reference v", lab);
     require_finite(ref.omega.data(), 3, 1, "reference omega", lab);
     require_finite(ref.a.data(), 3, 1, "reference a", lab);
@@ -301,7 +302,7 @@ void check_loads(const NodalConfig& config, Command command, const Loads& loads,
   if (rot) check_finite(loads.moment.data(), 3 * n, "moment");
   if (config.reference_node) {
     check_finite(loads.reference_force.data(), 3, "reference force");
-    if (rot) check_finite(loads.reference_moment.data(), 3, "reference moment");
+    if (config.record_has_omega()) check_finite(loads.reference_moment.data(), 3, "reference moment");
   }
 }
 
@@ -318,10 +319,10 @@ void loads_wire_spans(const NodalConfig& config, const std::uint8_t* command_byt
     // The record is always sent, even with `use reference node forces, no` (spec §4.2).
     if (config.labels) {
       append_span(out, reference_label, 4);
-      append_pad(out, 4);
+      if (!config.mapping_reference) append_pad(out, 4);
     }
     append_span(out, loads.reference_force.data(), 24);
-    if (rot) append_span(out, loads.reference_moment.data(), 24);
+    if (config.record_has_omega()) append_span(out, loads.reference_moment.data(), 24);
   }
   if (n > 0) {
     if (config.labels) {

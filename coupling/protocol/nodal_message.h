@@ -29,6 +29,7 @@ struct ReferenceKinematics {
 struct Kinematics {
   Command command = Command::RegularDataAndGotoNextStep;  // 2 (tight iterate) or 6
   Rotation rotation = Rotation::OrientationMatrix;
+  Rotation reference_rotation = Rotation::OrientationMatrix;  // the reference record's
   bool has_reference = false;
   ReferenceKinematics reference;
   std::vector<std::uint32_t> labels;  // N node labels (empty without labels)

@@ -17,6 +17,7 @@ triangles.csv naming each triangle's points):
   * bad input is an ERROR naming the argument."""
 import csv
 import gzip
+import math
 import os
 import re
 
@@ -105,8 +106,8 @@ run {steps}
 """
 
 
-def couple(sockdir, steps, nprocs=1, coupling="loose", answers_out=None, **kw):
-    rows = transcript(coupling)
+def couple(sockdir, steps, nprocs=1, coupling="loose", answers_out=None, rows=None, **kw):
+    rows = rows or transcript(coupling)
     sock = os.path.join(sockdir, "m.sock")
     fake = FakeMbdyn(sock, rows, timeout=30)
     rc, out, secs = run_lammps(deck(sock, steps, **kw), sockdir, nprocs=nprocs, timeout=120)
@@ -267,7 +268,9 @@ BAD = [
     ("twice", "mapping plate points 15 mapping plate points 15", "orientation none",
      "keyword 'mapping' given twice"),
     ("reference", "mapping plate points 15 reference_node yes", "orientation none",
-     "'mapping' supports 'reference_node no' only"),
+     "'mapping' with 'reference_node yes' needs the reference node's 'orientation'"),
+    ("reference body", "mapping plate points 15 reference_node yes reference atom 1", "orientation matrix",
+     "'mapping' takes no 'reference atom|group'"),
     ("mesh id", "mapping nosuch points 15", "orientation none",
      "mesh ID 'nosuch' does not exist"),
     ("labels", "mapping plate points 15 labels yes", "orientation none",
@@ -338,3 +341,73 @@ def test_bad_vertex_matching_names_the_vertex(case, sockdir):
     fake.join()
     err = error_line(out)
     assert rc != 0 and "mapping plate points 15" in err and re.search(expected, err), out[-2000:]
+
+
+def rot_z_x(a, b):
+    """Rz(a) Rx(b), row-major."""
+    ca, sa, cb, sb = math.cos(a), math.sin(a), math.cos(b), math.sin(b)
+    return [[ca, -sa * cb, sa * sb], [sa, ca * cb, -ca * sb], [0.0, sb, cb]]
+
+
+def mv(R, v):
+    return [sum(R[r][c] * v[c] for c in range(3)) for r in range(3)]
+
+
+def mtv(R, v):
+    return [sum(R[c][r] * v[c] for c in range(3)) for r in range(3)]
+
+
+def test_reference_node_carries_the_mapped_plate(sockdir):
+    # MBDyn's `external structural mapping` with `reference node` (orientation matrix): the recorded
+    # cantilever's mapped points carried by a reference node that translates and turns about z
+    # (the plate stays level under the particles); its record x_r, R_r (column-major), v_r, w_r comes
+    # first, the points relative to it in its frame. Closed forms: every vertex at x_r + R_r q~; the
+    # answer's point loads R_r p~ add up to minus the particles' wall force, and its record is the
+    # total in the reference frame, F0 = R_r^T F, M0 = R_r^T (moment about x_r of the wall contacts).
+    rec = transcript()
+    x0, R0 = [0.2, -0.1, 0.3], rot_z_x(0.1, 0.0)
+    poses, rows, n = [], [], 0
+    for seq, d, c, v in rec:
+        if d == "mbdyn->peer" and c in (2, 6):
+            q = [float(x) for x in v[:3 * M_POINTS]]
+            qd = [float(x) for x in v[3 * M_POINTS:6 * M_POINTS]]
+            xr, Rr = [x0[0] + 0.002 * n, x0[1] - 0.001 * n, x0[2]], rot_z_x(0.1 + 0.004 * n, 0.0)
+            qt = sum((mtv(R0, [q[3 * j + a] - x0[a] for a in range(3)]) for j in range(M_POINTS)), [])
+            qdt = sum((mtv(R0, qd[3 * j:3 * j + 3]) for j in range(M_POINTS)), [])
+            vals = xr + [Rr[r][col] for col in range(3) for r in range(3)] + [0.1, -0.05, 0.0] + [0.0, 0.0, 0.2]
+            rows.append((seq, d, c, [repr(x) for x in vals + qt + qdt]))
+            poses.append((xr, Rr, qt))
+            n += 1
+        elif d == "peer->mbdyn" and c in (2, 6):
+            rows.append((seq, d, c, ["0.0"] * (6 + 3 * M_POINTS)))
+        else:
+            rows.append((seq, d, c, v))
+    steps = n - 1
+    dump = f"fix D all mesh/dump 1 stl {sockdir}/mesh*.stl plate"
+    answers = []
+    _, loads, thermo, secs = couple(sockdir, steps, rows=rows, dump=dump, answers_out=answers,
+                                    fix_extra="reference_node yes orientation matrix")
+    assert answers[0][1:] == (7, [0x2 | 0x4 | (0x200 << 4), M_POINTS])  # flags: ref node, its matrix << 4
+    tris = triangles()
+    worst_v = worst_f = worst_f0 = worst_m0 = fscale = mscale = 0.0
+    for k, (xr, Rr, qt) in enumerate(poses):
+        pts = [[xr[a] + mv(Rr, qt[3 * j:3 * j + 3])[a] for a in range(3)] for j in range(M_POINTS)]
+        mesh = read_stl(f"{sockdir}/mesh{k}.stl")
+        worst_v = max(worst_v, max(abs(mesh[t][i][a] - pts[j][a]) for t, cs in enumerate(tris)
+                                   for i, j in enumerate(cs) for a in range(3)))
+        F0, M0, pt = loads[k][0:3], loads[k][3:6], loads[k][6:]
+        p = [mv(Rr, pt[3 * j:3 * j + 3]) for j in range(M_POINTS)]
+        F = [sum(p[j][a] for j in range(M_POINTS)) for a in range(3)]
+        fp, fm, mr, r = thermo[k][0:3], thermo[k][3:6], thermo[k][6:9], thermo[k][9:12]
+        m_origin = [mr[a] + cross(r, fm)[a] for a in range(3)]  # the wall contacts' moment about the origin
+        m_ref = [m_origin[a] - cross(xr, fm)[a] for a in range(3)]
+        fscale, mscale = max(fscale, max(map(abs, fp))), max(mscale, max(map(abs, m_ref)))
+        worst_f = max(worst_f, max(abs(F[a] + fp[a]) for a in range(3)))
+        worst_f0 = max(worst_f0, max(abs(mv(Rr, F0)[a] - fm[a]) for a in range(3)))
+        worst_m0 = max(worst_m0, max(abs(mv(Rr, M0)[a] - m_ref[a]) for a in range(3)))
+    print(f"mapping mesh, reference node: {steps + 1} exchanges in {secs:.1f} s; vertices vs x_r + R_r q~ "
+          f"{worst_v:.1e} m; point loads + particles' wall force {worst_f / fscale:.1e} of {fscale:.3g} N; "
+          f"record: F0 {worst_f0 / fscale:.1e}, M0 {worst_m0 / mscale:.1e} of {mscale:.3g} N m")
+    assert fscale > 1.0  # the particles press on the plate
+    assert worst_v <= 1e-15
+    assert worst_f <= 1e-12 * fscale and worst_f0 <= 1e-12 * fscale and worst_m0 <= 1e-12 * mscale

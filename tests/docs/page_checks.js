@@ -25,8 +25,15 @@
     const t = visible(td);
     if (formula.test(t)) plainFormulas.push(t.trim().slice(0, 80));
   });
+  // the same in running text: paragraphs and list items outside tables (the innermost block, once)
+  const plainProse = [];
+  art.querySelectorAll('p, li, dd').forEach(e => {
+    if (e.closest('table') || e.querySelector('p, li, dd')) return;
+    const t = visible(e), m = t.match(formula);
+    if (m) plainProse.push(t.slice(Math.max(0, m.index - 40), m.index + 40).trim());
+  });
   const headings = [...art.querySelectorAll('h2')].map(h => visible(h).trim());
   const ids = [...document.querySelectorAll('[id]')].map(e => e.id);
   const links = [...art.querySelectorAll('a[href]')].map(a => a.getAttribute('href'));
-  return {raw, untypeset, plainFormulas, headings, ids, links};
+  return {raw, untypeset, plainFormulas, plainProse, headings, ids, links};
 })()

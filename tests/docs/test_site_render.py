@@ -1,6 +1,6 @@
 """Every page of the built site rendered in one headless Chromium (Debian `chromium`, installed by
 ./dembridge): once MathJax has typeset it, a page fails on raw TeX or an untypeset formula, on a formula
-written as plain text in a table cell (sqrt(...), powers, R*...: write it as $...$), on a link to a
+written as plain text in a table cell or in running text (sqrt(...), x_{...}, powers, R*...: write it as $...$), on a link to a
 page or anchor of the site that does not exist, and a command page (doc/{pair,fix,compute,dump}_*.md)
 fails when it lacks a section of the LAMMPS layout."""
 import os
@@ -56,6 +56,13 @@ def test_the_formula_tables_use_math(rendered):
     _, results = rendered
     bad = [f"{p}: {cell}" for p, r in results.items() for cell in r["plainFormulas"]]
     assert not bad, "table cells with a formula written as text (write it as $...$ math):\n" + "\n".join(bad)
+
+
+def test_formulas_in_running_text_use_math(rendered):
+    _, results = rendered
+    bad = [f"{p}: ...{s}..." for p, r in results.items() for s in r["plainProse"]]
+    assert not bad, ("paragraphs or list items with a formula written as text (sqrt(...), x_{...}, powers, "
+                     "R*...: write it as $...$ math):\n" + "\n".join(bad))
 
 
 def test_pair_gran_formulas_are_rendered_by_mathjax(rendered):

@@ -24,6 +24,13 @@ def read_thermo(log):
     return [typed_columns({c: np.asarray(v, dtype=float) for c, v in run.items()}) for run in LogFile(log).runs]
 
 
+def thermo_rows(log):
+    """Every thermo row of every completed run of a LAMMPS (or LIGGGHTS) log, in order, as a tuple of the
+    row's values (``read_thermo``'s types): two runs printed with the same thermo format compare row by row
+    with ``==``."""
+    return [tuple(v[i].item() for v in run.values()) for run in read_thermo(log) for i in range(len(run["Step"]))]
+
+
 def _dump_frames(path, item=("ATOMS", "ENTRIES")):
     """(step, column names, rows) of each frame of a LAMMPS text dump; ``item`` = ATOMS or ENTRIES
     (both by default)."""

@@ -15,7 +15,7 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tests" / "oracle"))
 import oracle_harness as oh  # noqa: E402
 
-from thermo_log import thermo_rows  # noqa: E402
+from dembridge import thermo_rows  # noqa: E402
 
 CASE = ROOT / "tests" / "data" / "liggghts-heat"
 GAS = ROOT / "tests" / "data" / "liggghts" / "gas200_periodic"  # its data.txt
@@ -143,7 +143,7 @@ def test_heat_deck_against_liggghts(tmp_path, nprocs):
     assert [r[0] for r in lr] == [r[0] for r in lg]
     for a, b in zip(lr, lg):
         for col in (3, 4, 5, 6):
-            x, y = float(a[col]), float(b[col])
+            x, y = a[col], b[col]
             assert close(x, y, abs(x)), (a[0], col, x, y)
     # the same warnings, same text, as many times
     warn = lambda p: re.findall(r"WARNING: (time-step is .*?) \(", Path(p).read_text())

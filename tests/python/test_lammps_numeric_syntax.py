@@ -11,7 +11,7 @@ import subprocess
 import pytest
 
 import dembridge
-from thermo_log import thermo_rows
+from dembridge import thermo_rows
 
 BENCH = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "bench")
 

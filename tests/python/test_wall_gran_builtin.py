@@ -16,7 +16,7 @@ import subprocess
 import pytest
 
 import dembridge
-from thermo_log import thermo_rows
+from dembridge import thermo_rows
 
 DECK = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "decks", "in.wall_gran_builtin")
 

@@ -24,7 +24,7 @@ import pytest
 
 import dembridge
 from lmp_runs import run_lmp
-from thermo_log import thermo_rows
+from dembridge import thermo_rows
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PLATE = os.path.join(HERE, "..", "data", "liggghts-walls", "mesh_plate_diagonal", "plate.stl")
@@ -105,7 +105,7 @@ def _run(tmp, busy, sort=0, nprocs=1, restart=False):
         lines = ["read_restart half.restart", "newton off"] + _settings(sort) + _fixes(busy) + thermo
     run_lmp(tmp, lines + ["run 2000"] + _finish(), nprocs)
     offset = NBYSTANDERS if busy else 0
-    atoms = [int(r[1]) for r in thermo_rows(tmp / "in.deck.log") if r[0].isdigit()]
+    atoms = [r[1] for r in thermo_rows(tmp / "in.deck.log")]
     return atoms, _walkers(tmp / "walkers.dump", offset), {w: _contacts(tmp / f"{w}.contacts", offset)
                                                          for w in ("floor", "plate")}
 

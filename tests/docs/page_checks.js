@@ -29,7 +29,8 @@
   const plainProse = [];
   art.querySelectorAll('p, li, dd').forEach(e => {
     if (e.closest('table') || e.querySelector('p, li, dd')) return;
-    const t = visible(e), m = t.match(formula);
+    // (a power of ten written as a count, "10^7 executions", is a number, not a formula)
+    const t = visible(e).replace(/\b10\^[0-9]+\b/g, ''), m = t.match(formula);
     if (m) plainProse.push(t.slice(Math.max(0, m.index - 40), m.index + 40).trim());
   });
   const headings = [...art.querySelectorAll('h2')].map(h => visible(h).trim());

@@ -5,7 +5,9 @@ a cantilevered blade, 0.1 m x 0.03 m in the x-y plane, clamped along x = 0, as 1
   mode 2, torsion:  phi_z = s * y / (W / 2)          (the blade's edges at the tip move by +-1)
 The blade's mass (BLADE_MASS) is lumped equally on its nodes; the modal mass is sum_v m_v phi^2,
 the stiffness gives the natural frequencies FREQ, the damping the ratio ZETA of critical.
-Usage: python make_blade_fem.py [blade.fem]"""
+It also writes blade.stl, the blade's surface as 60 triangles whose vertices are the FEM nodes (the
+surface of `python run_blade.py --surface mesh`).
+Usage: python make_blade_fem.py [blade.fem [blade.stl]]"""
 import math
 import sys
 
@@ -59,5 +61,19 @@ def write(path):
     open(path, "w").write("\n".join(lines) + "\n")
 
 
+def write_stl(path):
+    """Two triangles per cell of the node grid, counter-clockwise seen from +z."""
+    xy = {(i, j): (round(i * L / (NX - 1), 12), round(-W / 2 + j * W / (NY - 1), 12)) for i in range(NX) for j in range(NY)}
+    out = ["solid blade"]
+    for j in range(NY - 1):
+        for i in range(NX - 1):
+            a, b, c, d = xy[i, j], xy[i + 1, j], xy[i + 1, j + 1], xy[i, j + 1]
+            for tri in ((a, b, c), (a, c, d)):
+                out += ["  facet normal 0 0 1", "    outer loop"]
+                out += [f"      vertex {v[0]!r} {v[1]!r} 0.0" for v in tri] + ["    endloop", "  endfacet"]
+    open(path, "w").write("\n".join(out + ["endsolid blade"]) + "\n")
+
+
 if __name__ == "__main__":
     write(sys.argv[1] if len(sys.argv) > 1 else "blade.fem")
+    write_stl(sys.argv[2] if len(sys.argv) > 2 else "blade.stl")

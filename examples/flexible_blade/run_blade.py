@@ -5,9 +5,11 @@ modal equations M q'' + C q' + K q = p with blade.fem's modal mass, stiffness an
 
 Usage: python run_blade.py [--plugin build/dembridgeplugin.so] [--testpeer build/coupling/mbdyn_testpeer]
                            [--steps 15000] [--every 500] [--out examples/flexible_blade/out] [--no-plot]
+                           [--surface atoms|mesh]
 Outputs in --out: modes.txt (the test peer's t, q1 q2, q1' q2', q1'' q2'', p1 p2 per step),
 blade.png (tip deflection and generalized forces over time), blade.*.dump (the particles and the
-blade atoms, OVITO), log.lammps, mbdyn.log."""
+blade atoms, OVITO), log.lammps, mbdyn.log; with --surface mesh (the blade's surface the STL mesh
+blade.stl instead of a wall of atoms) also surface_*.vtk (ParaView) and surface_*.stl, the deformed mesh."""
 import argparse
 import os
 import subprocess
@@ -55,7 +57,7 @@ def read_modes(out):
     return [[float(v) for v in l.split()] for l in open(os.path.join(out, "modes.txt")) if not l.startswith("#")]
 
 
-def run(plugin, peer, steps, every, out):
+def run(plugin, peer, steps, every, out, surface="atoms"):
     out = os.path.abspath(out)
     os.makedirs(out, exist_ok=True)
     sock = os.path.join(out, "mbdyn.sock")
@@ -65,7 +67,7 @@ def run(plugin, peer, steps, every, out):
                           stdout=open(os.path.join(out, "mbdyn.log"), "w"), stderr=subprocess.STDOUT)
     cmd = [dembridge.lmp_executable(), "-in", os.path.join(HERE, "in.blade"), "-var", "plugin", os.path.abspath(plugin),
            "-var", "sock", sock, "-var", "steps", str(steps), "-var", "every", str(every), "-var", "out", out,
-           "-var", "fem", fem_path, "-log", os.path.join(out, "log.lammps"), "-nocite", "-screen", "none"]
+           "-var", "fem", fem_path, "-var", "stl", os.path.join(HERE, "blade.stl"), "-var", "surface", surface, "-log", os.path.join(out, "log.lammps"), "-nocite", "-screen", "none"]
     lmp = subprocess.run(cmd, cwd=out, stdin=subprocess.DEVNULL)
     status = finish_mbdyn_side(mb)
     if lmp.returncode != 0:
@@ -106,8 +108,9 @@ if __name__ == "__main__":
     ap.add_argument("--every", type=int, default=500)
     ap.add_argument("--out", default=os.path.join(HERE, "out"))
     ap.add_argument("--no-plot", action="store_true")
+    ap.add_argument("--surface", choices=("atoms", "mesh"), default="atoms")
     a = ap.parse_args()
-    out = run(a.plugin, a.testpeer, a.steps, a.every, a.out)
+    out = run(a.plugin, a.testpeer, a.steps, a.every, a.out, a.surface)
     if not a.no_plot:
         plot(out)
     rows = read_modes(out)

@@ -5,6 +5,8 @@ and its coupling is exact where it can be checked independently of fix mbdyn, at
 - the generalized forces the peer received at step k are the virtual work of the blade atoms'
   forces in the dump, p_m = sum_v phi_m(v) . f_v, with phi read from blade.fem here;
 - the blade's total force balances the particles' contact forces: sum_blade f = -(sum_particles f - weight).
+With --surface mesh (the blade's surface the STL mesh blade.stl): every vertex of the dumped mesh sits
+at X + sum q phi, and the particles bend the blade.
 The blade's modal dynamics are the test peer's (M q'' + C q' + K q = p, crank nicolson); the
 recorded MBDyn modal runs are of a free body, so they do not check these dynamics."""
 import importlib.util
@@ -76,4 +78,28 @@ def test_blade_example_loads_are_the_virtual_work_of_the_contact_forces():
     assert worst_x <= 1e-15
     assert worst_p <= 1e-12
     assert worst_f <= 1e-12
+    shutil.rmtree(out, ignore_errors=True)
+
+
+def test_blade_example_mesh_surface_deforms_with_the_modes():
+    blade = load_example()
+    fem = blade.read_fem(os.path.join(EXAMPLE, "blade.fem"))
+    out = tempfile.mkdtemp(prefix="blade", dir="/tmp")
+    blade.run(plugin_path(), PEER, STEPS, 500, out, surface="mesh")
+    rows = blade.read_modes(out)
+    assert len(rows) == STEPS + 1
+    worst = 0.0
+    for k in range(500, STEPS + 1, 500):
+        q = rows[k - 1][1:3]
+        verts = [[float(x) for x in l.split()[1:4]] for l in open(os.path.join(out, f"surface_{k}.stl"))
+                 if l.strip().startswith("vertex")]
+        assert len(verts) == 180 and os.path.getsize(os.path.join(out, f"surface_{k}.vtk")) > 0
+        for v in verts:
+            n = min(range(len(fem["xyz"])), key=lambda i: (fem["xyz"][i][0] - v[0]) ** 2 + (fem["xyz"][i][1] - v[1]) ** 2)
+            want = [fem["xyz"][n][c] + sum(q[m] * fem["phi"][m][n][c] for m in range(2)) for c in range(3)]
+            worst = max(worst, max(abs(v[c] - want[c]) for c in range(3)))
+    print(f"blade mesh: vertices {worst:.2e} m from X + sum q phi; q1 at the end {rows[-1][1]:.3e}, "
+          f"min p1 {min(r[7] for r in rows):.3g} N")
+    assert worst <= 1e-15
+    assert rows[-1][1] < -5e-4 and min(r[7] for r in rows) < -0.05  # the particles load and bend the blade
     shutil.rmtree(out, ignore_errors=True)

@@ -17,6 +17,9 @@
 namespace dembridge {
 
 class FixMeshSurface;
+namespace mesh {
+class TriangleMesh;
+}
 
 // One wall contact of the last force evaluation (for compute wall/gran/local).
 struct WallContactRecord {
@@ -66,6 +69,7 @@ class FixWallGran : public state::PerAtomRecordsFix {
   void touch(int i, const gran::WallTouch &w, int wall_type, double *hist, bool update, int mesh, int element, double *fpw);
 
   void init_meshes();
+  int local_tri(const mesh::TriangleMesh &mesh, double key);
   std::vector<FixMeshSurface *> meshes_;  // looked up again at every init
   LAMMPS_NS::Fix *fix_rigid_ = nullptr;   // body masses replace particle masses (spec §2)
   const int *rigid_body_ = nullptr;       // this step's body index per local atom (-1: none)

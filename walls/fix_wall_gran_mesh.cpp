@@ -22,6 +22,18 @@ inline int key_mesh(double key) { return int(std::floor(key / kMeshStride)); }
 inline int key_tri(double key) { return int(key - key_mesh(key) * kMeshStride); }
 }  // namespace
 
+// The local id of a contact's triangle. A rank keeps every triangle within reach of its atoms, with
+// a margin of the neighbour cutoff, so a triangle touched on the last step is always kept.
+int FixWallGran::local_tri(const mesh::TriangleMesh &mesh, double key)
+{
+  const int t = mesh.local_id(key_tri(key));
+  if (t < 0)
+    fail_on_this_rank(lmp, FLERR, cmd_ + ": mesh triangle " + std::to_string(key_tri(key) + 1) +
+                                      " of a contact is not kept on this rank (a particle moved further than the "
+                                      "neighbour cutoff in one step?); 'distribute no' on the mesh keeps it whole");
+  return t;
+}
+
 void FixWallGran::init_meshes()
 {
   meshes_.clear();
@@ -59,7 +71,8 @@ void FixWallGran::mesh_pass(bool update_history)
         const int t = cand[c];
         const mesh::TriangleContact tc = ms->closest(t, x[i], radius[i]);
         if (!(tc.dist_minus_r <= 0.0)) continue;
-        const double key = contact_key(m, t);
+        const int g = mesh.global_id(t);  // history keys and output use file-order ids (any rank, any split)
+        const double key = contact_key(m, g);
         int slot = records_.find(i, key);
         if (slot < 0) {
           const bool face = !face_only || tc.kind == mesh::ContactKind::Face;
@@ -67,7 +80,7 @@ void FixWallGran::mesh_pass(bool update_history)
             bool skip = false;
             for (int s = 0; s < records_.count(i) && !skip; ++s) {
               const double k2 = key_of(i, s);
-              skip = kept[s] && key_mesh(k2) == m && key_tri(k2) != t && mesh.coplanar_node_neighbors(key_tri(k2), t);
+              skip = kept[s] && key_mesh(k2) == m && key_tri(k2) != g && mesh.coplanar_node_neighbors(local_tri(mesh, k2), t);
             }
             if (skip) continue;
           }
@@ -79,14 +92,14 @@ void FixWallGran::mesh_pass(bool update_history)
           if (face && nv > 0)  // carry the shear spring across a flat shared edge (last partner wins)
             for (int s = 0; s < slot; ++s) {
               const double k2 = key_of(i, s);
-              if (key_mesh(k2) == m && key_tri(k2) != t && mesh.coplanar_node_neighbors(key_tri(k2), t))
+              if (key_mesh(k2) == m && key_tri(k2) != g && mesh.coplanar_node_neighbors(local_tri(mesh, k2), t))
                 std::copy(values_of(i, s), values_of(i, s) + nv, values_of(i, slot));
             }
         }
         kept[slot] = 1;
         ms->wall_velocity(t, tc.bary, vw);
         touch(i, gran::WallTouch{tc.dist_minus_r, tc.delta.data(), vw}, ms->wall_type(), nv ? values_of(i, slot) : scratch,
-              update_history, m, t, fpw);
+              update_history, m, g, fpw);
         if (ms->stress_on() && (mask[i] & ms->groupbit)) {
           const double frc[3] = {-fpw[0], -fpw[1], -fpw[2]};
           const double cp[3] = {x[i][0] + tc.delta[0], x[i][1] + tc.delta[1], x[i][2] + tc.delta[2]};

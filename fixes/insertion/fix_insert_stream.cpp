@@ -65,6 +65,7 @@ FixInsertStream::FixInsertStream(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
     error->all(FLERR, prefix() + e.what());
   }
   face_fix_ = FixMeshSurface::find(lmp, s_.face, prefix() + "insertion_face");
+  face_fix_->keep_whole();  // every rank samples the whole face
   check_face();
 
   insert_rng_.reset(k_.seed);  // LIGGGHTS adds the rank; every rank here draws rank 0's stream
@@ -124,6 +125,7 @@ void FixInsertStream::init()
   dist_ = FixParticleDistribution::find(lmp, k_.distribution);
   if (!dist_) error->all(FLERR, prefix() + "particle distribution '" + k_.distribution + "' was deleted");
   face_fix_ = FixMeshSurface::find(lmp, s_.face, prefix() + "insertion_face");
+  face_fix_->keep_whole();
   if (face_fix_->moving())
     error->all(FLERR, prefix() + "cannot translate, rotate, scale mesh which is used for particle insertion (fix " +
                           s_.face + ")");

@@ -79,6 +79,7 @@ FixMassflowMesh::FixMassflowMesh(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
   if (!once_ && point_at_outlet_) a.fail("point_at_outlet", "requires 'count once'");
   if (dot3(side_, side_) == 0.0 && !point_at_outlet_) a.fail("vec_side", "missing (expected 'vec_side vx vy vz' or 'point_at_outlet')");
   if (!mesh_) a.fail("mesh", "missing (expected 'mesh ID' of a fix mesh/surface)");
+  mesh_->keep_whole();  // the planarity and side tests look at every triangle
 
   const mesh::TriangleMesh &m = mesh_->mesh();
   for (int k = 0; k < 3; ++k) {
@@ -130,6 +131,7 @@ void FixMassflowMesh::init()
 {
   if (!atom->rmass_flag) error->all(FLERR, cmd_ + ": requires atoms that have a per-particle mass");
   mesh_ = FixMeshSurface::find(lmp, mesh_id_, cmd_ + ": mesh");
+  mesh_->keep_whole();
   counter_ = FixPropertyAtomLiggghts::find(lmp, counter_id_);
   if (!property_name_.empty()) {
     property_ = FixPropertyAtomLiggghts::find(lmp, property_name_);

@@ -2,10 +2,10 @@
 #include "fix_mesh_surface.h"
 
 #include "finnie_wear.h"
+#include "rank_error.h"
 #include "fix_move_mesh.h"
 #include "fix_property_global.h"
 #include "mesh_args.h"
-#include "mesh_placement.h"
 #include "stl_reader.h"
 #include "style_registry.h"
 
@@ -41,15 +41,16 @@ FixMeshSurface::FixMeshSurface(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, nar
 
   // fixed order as in LIGGGHTS: file F type T, then optional keywords in any order
   a.expect_keyword("file", "file FILENAME type T");
-  const std::string file = a.word("file name");
+  file_ = a.word("file name");
+  const std::string &file = file_;
   a.expect_keyword("type", "type T after the file name");
   wall_type_ = a.integer("type");
   if (wall_type_ < 1 || wall_type_ > atom->ntypes)
     error->all(FLERR, cmd + ": type " + std::to_string(wall_type_) + " is outside 1.." + std::to_string(atom->ntypes) +
                           " (the atom types of create_box; the wall material needs a type)");
 
-  mesh::MeshOptions opt;
-  std::vector<mesh::PlacementOp> ops;
+  mesh::MeshOptions &opt = opt_;
+  std::vector<mesh::PlacementOp> &ops = ops_;
   mesh::Vec3 ref{0.0, 0.0, 0.0};
   bool have_surface_vel = false, have_surface_ang = false;
   mesh::Vec3 surface_vel{}, ang_origin{}, ang_axis{};
@@ -63,6 +64,8 @@ FixMeshSurface::FixMeshSurface(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, nar
       if (v != "auto_remove_duplicates" && v != "no")
         a.fail("heal", "expected 'auto_remove_duplicates' or 'no', got '" + v + "'");
       opt.heal_remove_duplicates = v == "auto_remove_duplicates";
+    } else if (key == "distribute") {
+      distribute_ = a.yes_no("distribute");
     } else if (key == "verbose") {
       a.yes_no("verbose");
     } else if (key == "scale") {
@@ -102,7 +105,7 @@ FixMeshSurface::FixMeshSurface(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, nar
     } else if (key == "reference_point" || key == "stress" || key == "wear") {
       a.fail(key, "is a keyword of fix mesh/surface/stress, not of fix " + std::string(style));
     } else {
-      a.fail(key, "unknown keyword (expected precision, heal, verbose, scale, move, rotate, curvature, "
+      a.fail(key, "unknown keyword (expected precision, heal, distribute, verbose, scale, move, rotate, curvature, "
                   "curvature_tolerant, surface_vel, surface_ang_vel" +
                       std::string(stress_style ? ", reference_point, stress, wear" : "") + ")");
     }
@@ -110,15 +113,15 @@ FixMeshSurface::FixMeshSurface(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, nar
   if (have_surface_vel && have_surface_ang) a.fail("surface_ang_vel", "cannot be combined with surface_vel");
 
   try {
-    std::vector<mesh::TriangleNodes> tris = mesh::read_stl(file);
-    mesh::apply_placement(tris, ops);
-    mesh_ = std::make_unique<mesh::TriangleMesh>(std::move(tris), opt);
+    mesh_ = read_mesh();
   } catch (const mesh::MeshError &e) {
     error->all(FLERR, cmd + " file '" + file + "': " + e.what());
   }
+  digest_ = mesh_->node_digest();
   ref_point_ = mesh_->attach_point(ref);
-  if (have_surface_vel || have_surface_ang) set_surface_velocity(have_surface_vel, surface_vel, ang_origin, ang_axis, ang_omega);
   conveyor_ = have_surface_vel || have_surface_ang;
+  conveyor_args_ = {have_surface_vel, surface_vel, ang_origin, ang_axis, ang_omega};
+  if (conveyor_) set_surface_velocity();
   tri_force_.assign(3 * std::size_t(mesh_->size()), 0.0);
   if (wear_ && !stress_) a.fail("wear finnie", "needs 'stress on' (the wear is computed with the wall forces)");
   if (wear_) {
@@ -152,9 +155,9 @@ int FixMeshSurface::setmask()
 
 // surface_vel / surface_ang_vel: a conveyor; node velocity = the in-plane part of the given
 // velocity, rescaled to the full magnitude (spec §7.1).
-void FixMeshSurface::set_surface_velocity(bool linear, const mesh::Vec3 &v, const mesh::Vec3 &origin,
-                                          const mesh::Vec3 &axis, double omega)
+void FixMeshSurface::set_surface_velocity()
 {
+  const auto &[linear, v, origin, axis, omega] = conveyor_args_;
   mesh::TriangleMesh &m = *mesh_;
   m.zero_velocity();
   const mesh::Vec3 w = mesh::scale(mesh::div_by(axis, mesh::norm(axis)), omega);
@@ -212,10 +215,12 @@ int FixMeshSurface::mover_rank(const FixMoveMesh *mover) const
 }
 
 // LIGGGHTS stops when every element is outside a non-periodic box; partly outside only warns.
-void FixMeshSurface::check_domain() const
+void FixMeshSurface::check_domain()
 {
-  int outside = 0;
-  bool crosses_periodic = false;
+  const std::string who = std::string("fix ") + style + " (id " + id + ")";
+  if (mesh_->whole()) {  // a distributed mesh repeats the warnings of its last whole check
+    outside_ = 0;
+    crosses_periodic_ = false;
   for (int t = 0; t < mesh_->size(); ++t) {
     bool out = false;
     for (int d = 0; d < 3; ++d) {
@@ -225,15 +230,17 @@ void FixMeshSurface::check_domain() const
         hi = std::max(hi, mesh_->node(t, k)[d]);
       }
       if (domain->periodicity[d]) {
-        if (lo < domain->boxlo[d] || hi > domain->boxhi[d]) crosses_periodic = true;
+        if (lo < domain->boxlo[d] || hi > domain->boxhi[d]) crosses_periodic_ = true;
       } else if (hi < domain->boxlo[d] || lo > domain->boxhi[d]) {
         out = true;
       }
     }
-    outside += out;
+    outside_ += out;
   }
-  const std::string who = std::string("fix ") + style + " (id " + id + ")";
-  if (outside == mesh_->size())
+  }
+  const int outside = outside_;
+  const bool crosses_periodic = crosses_periodic_;
+  if (outside == mesh_->global_size())
     error->all(FLERR, who + ": all " + std::to_string(outside) + " mesh elements are outside the simulation box");
   if (comm->me == 0 && outside > 0)
     error->warning(FLERR, who + ": " + std::to_string(outside) + " mesh elements are outside the simulation box");
@@ -244,6 +251,10 @@ void FixMeshSurface::check_domain() const
 
 void FixMeshSurface::remember_nodes()
 {
+  if (!moving()) {  // only a moving mesh checks its displacement since the last build
+    std::vector<mesh::TriangleNodes>().swap(nodes_at_build_);
+    return;
+  }
   nodes_at_build_.resize(mesh_->size());
   for (int t = 0; t < mesh_->size(); ++t) nodes_at_build_[t] = mesh_->nodes(t);
 }
@@ -258,13 +269,113 @@ void FixMeshSurface::pre_neighbor()
   rebuilt_this_step_ = true;
 }
 
-void FixMeshSurface::setup_post_neighbor() { build_candidates(); }
+void FixMeshSurface::setup_post_neighbor()
+{
+  build_candidates();
+  log_distribution();
+}
 void FixMeshSurface::post_neighbor() { build_candidates(); }
 
 void FixMeshSurface::build_candidates()
 {
   const double s = moving() ? neighbor->skin : 0.5 * neighbor->skin;
+  if (distribute_ && !keep_whole_ && !moving() && !wear_ && !mesh_->moved() && !domain->triclinic) fit_to_reach(s);
+  else keep_whole();
   neighbors_.build(*mesh_, atom->nlocal, atom->x, atom->radius, nullptr, s);
+}
+
+std::unique_ptr<mesh::TriangleMesh> FixMeshSurface::read_mesh() const
+{
+  std::vector<mesh::TriangleNodes> tris = mesh::read_stl(file_);
+  mesh::apply_placement(tris, ops_);
+  return std::make_unique<mesh::TriangleMesh>(std::move(tris), opt_);
+}
+
+void FixMeshSurface::keep_whole()
+{
+  keep_whole_ = true;
+  if (!mesh_->whole()) reload_whole();
+  split_ = false;
+}
+
+// A distributed mesh never moved, so the file gives its nodes again bit for bit.
+void FixMeshSurface::reload_whole()
+{
+  const std::string who = std::string("fix ") + style + " (id " + id + ")";
+  std::unique_ptr<mesh::TriangleMesh> fresh;
+  try {
+    fresh = read_mesh();
+  } catch (const mesh::MeshError &e) {
+    fail_on_this_rank(lmp, FLERR, who + ": reading '" + file_ + "' again for the triangles this rank needs now: " + e.what());
+  }
+  if (fresh->node_digest() != digest_)
+    fail_on_this_rank(lmp, FLERR, who + ": '" + file_ + "' changed since the mesh was defined (read again for the "
+                                        "triangles this rank needs now); restore it or use 'distribute no'");
+  fresh->take_attached_points(*mesh_);
+  const bool had_velocity = mesh_->has_velocity();
+  *mesh_ = std::move(*fresh);
+  if (conveyor_) set_surface_velocity();
+  else if (had_velocity) mesh_->zero_velocity();
+  std::vector<double>(3 * std::size_t(mesh_->size()), 0.0).swap(tri_force_);
+}
+
+// Keep the triangles whose bounding box meets this rank's region: its subdomain and its atoms'
+// reach (radius + s, the candidate criterion's superset), grown by the neighbour cutoff so that
+// atoms may move and the box may change a little before the region has to be refitted. A candidate
+// of an atom lies within its reach, so every rank finds the candidates of the replicated mesh.
+void FixMeshSurface::fit_to_reach(double s)
+{
+  mesh::Vec3 mlo, mhi;
+  mesh_->bounding_box(mlo, mhi);
+  mesh::Vec3 lo{domain->sublo[0], domain->sublo[1], domain->sublo[2]};
+  mesh::Vec3 hi{domain->subhi[0], domain->subhi[1], domain->subhi[2]};
+  mesh::Vec3 need_lo = mhi, need_hi = mlo;  // empty
+  for (int i = 0; i < atom->nlocal; ++i)
+    for (int d = 0; d < 3; ++d) {
+      const double x = atom->x[i][d], r = atom->radius[i] + s;
+      const double eps = 1e-9 * (std::fabs(x) + r);  // rounding of the criterion's bounds
+      need_lo[d] = std::min(need_lo[d], x - r - eps);
+      need_hi[d] = std::max(need_hi[d], x + r + eps);
+    }
+  bool inside = true;
+  for (int d = 0; d < 3; ++d) {
+    need_lo[d] = std::max(need_lo[d], mlo[d]);
+    need_hi[d] = std::min(need_hi[d], mhi[d]);
+    if (need_lo[d] <= need_hi[d] && (need_lo[d] < kept_lo_[d] || need_hi[d] > kept_hi_[d])) inside = false;
+  }
+  if (split_ && inside) return;
+  const double grow = neighbor->cutneighmax + s;
+  for (int d = 0; d < 3; ++d) {
+    kept_lo_[d] = std::max(std::min(lo[d], need_lo[d]) - grow, mlo[d]);
+    kept_hi_[d] = std::min(std::max(hi[d], need_hi[d]) + grow, mhi[d]);
+  }
+  if (!mesh_->whole()) reload_whole();
+  std::vector<int> ids;
+  for (int t = 0; t < mesh_->size(); ++t) {
+    bool meets = true;
+    for (int d = 0; d < 3 && meets; ++d) {
+      const double a = mesh_->node(t, 0)[d], b = mesh_->node(t, 1)[d], c = mesh_->node(t, 2)[d];
+      meets = std::max(a, std::max(b, c)) >= kept_lo_[d] && std::min(a, std::min(b, c)) <= kept_hi_[d];
+    }
+    if (meets) ids.push_back(t);
+  }
+  mesh_->keep_only(ids);
+  std::vector<double>(3 * std::size_t(mesh_->size()), 0.0).swap(tri_force_);
+  split_ = true;
+}
+
+// Collective: how the triangles are spread over the ranks (after the setup's first fit).
+void FixMeshSurface::log_distribution()
+{
+  const double mine[2] = {double(mesh_->size()), memory_usage()};
+  double lo[2], hi[2];
+  const double neg[2] = {-mine[0], -mine[1]};
+  MPI_Allreduce(mine, hi, 2, MPI_DOUBLE, MPI_MAX, world);
+  MPI_Allreduce(neg, lo, 2, MPI_DOUBLE, MPI_MAX, world);
+  if (comm->me == 0)
+    utils::logmesg(lmp, "fix {} (id {}): {} of {} triangles per rank ({} to {}), mesh memory {:.1f} to {:.1f} kB per rank\n",
+                   style, id, mesh_->whole() ? "all" : "part", mesh_->global_size(), -lo[0], hi[0], -lo[1] / 1024.0,
+                   hi[1] / 1024.0);
 }
 
 void FixMeshSurface::setup_pre_force(int)
@@ -379,7 +490,7 @@ FixMeshSurface *FixMeshSurface::find(LAMMPS *lmp, const std::string &mesh_id, co
 void FixMeshSurface::write_restart(FILE *fp)
 {
   if (comm->me != 0) return;
-  const std::vector<double> state = mesh_->save_state();
+  const std::vector<double> state = mesh_->save_state();  // whole state even on a distributed rank (never moved)
   const int n = int(state.size());
   const int size = int(sizeof(int) + state.size() * sizeof(double));
   fwrite(&size, sizeof(int), 1, fp);

@@ -4,7 +4,9 @@
 // CONTRACT for a wall fix (fix wall/gran ... mesh n_meshes N meshes ID ...):
 //  * Find the mesh:  FixMeshSurface *m = FixMeshSurface::find(lmp, id, "fix wall/gran");
 //    (errors with the caller's name if the ID is unknown or not a mesh fix).
-//  * Every rank holds the whole mesh; only local atoms interact with it (no ghosts needed).
+//  * Only local atoms interact with the mesh (no ghosts needed). A static mesh is distributed:
+//    each rank keeps the triangles its atoms can reach (see keep_whole()); local triangle ids
+//    ascend in file order, m->mesh().global_id(t) is the file-order id to key history and output.
 //  * Candidates: m->candidates(i) / m->ncandidates(i) for local atom i, triangle ids ascending.
 //    Rebuilt by this fix in (setup_)post_neighbor for all local atoms, so they are valid in
 //    post_force of every step until the next re-neighbouring. Process them in that order: it is
@@ -24,6 +26,7 @@
 #include "fix.h"
 
 #include "mesh_neighbors.h"
+#include "mesh_placement.h"
 #include "triangle_contact.h"
 #include "triangle_mesh.h"
 
@@ -60,7 +63,11 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   bool moving() const { return !movers_.empty() || external_driver_; }
   // A fix that moves the mesh itself (fix mbdyn ... node mesh ID) marks it as moving, so the
   // candidates use the full skin and the geometry is refreshed at re-neighbouring (§6, §7.3).
-  void drive_externally() { external_driver_ = true; }
+  void drive_externally()
+  {
+    keep_whole();
+    external_driver_ = true;
+  }
   bool driven_externally() const { return external_driver_; }
   // fix mbdyn ... mapping: keep every add_wall_force of the step (this rank's, from the last
   // pre_force on) as triangle, force, contact point, for the distribution to the vertices.
@@ -83,7 +90,14 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   const std::vector<double> &wear() const { return wear_total_; }
 
   // ---- API for fix move/mesh and the mesh dumps
-  mesh::TriangleMesh &mesh_for_motion() { return *mesh_; }
+  // A user of every triangle (movers, drivers, dumps, massflow, insertion faces) keeps the mesh whole
+  // on every rank from now on (it is read again from the file if this rank kept a part).
+  void keep_whole();
+  mesh::TriangleMesh &mesh_for_motion()
+  {
+    keep_whole();
+    return *mesh_;
+  }
   // Position of a fix move/mesh among the movers of this mesh in fix order (0 = first, which
   // zeroes the node velocities each step), -1 if not one of them. Valid after init().
   int mover_rank(const FixMoveMesh *mover) const;
@@ -93,6 +107,22 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
 
  private:
   std::unique_ptr<mesh::TriangleMesh> mesh_;
+  // how the mesh was built, to read it again when a rank needs triangles it dropped
+  std::string file_;
+  mesh::MeshOptions opt_;
+  std::vector<mesh::PlacementOp> ops_;
+  std::uint64_t digest_ = 0;
+  struct Conveyor {
+    bool linear;
+    mesh::Vec3 v, origin, axis;
+    double omega;
+  } conveyor_args_{};
+  bool distribute_ = true;   // 'distribute yes' (default)
+  bool keep_whole_ = false;  // keep_whole() was asked for
+  bool split_ = false;       // kept_lo_/kept_hi_ bound what this rank keeps
+  mesh::Vec3 kept_lo_{}, kept_hi_{};
+  int outside_ = 0;               // check_domain() of the whole mesh, for the warnings of later runs
+  bool crosses_periodic_ = false;
   mesh::MeshNeighbors neighbors_;
   std::vector<FixMoveMesh *> movers_;  // in fix order, found in init()
   int wall_type_ = 0;
@@ -113,12 +143,15 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   bool totals_stale_ = false;   // totals changed since the last MPI sum (same on every rank)
 
   void build_candidates();
+  std::unique_ptr<mesh::TriangleMesh> read_mesh() const;
+  void reload_whole();
+  void fit_to_reach(double s);
+  void log_distribution();
   void zero_totals();
   void sum_totals();
   void remember_nodes();
-  void check_domain() const;
-  void set_surface_velocity(bool linear, const mesh::Vec3 &v, const mesh::Vec3 &origin, const mesh::Vec3 &axis,
-                            double omega);
+  void check_domain();
+  void set_surface_velocity();
 };
 
 }  // namespace dembridge

@@ -25,7 +25,7 @@ std::vector<std::string> all_mesh_ids(LAMMPS *lmp)
 
 void check_mesh_ids(LAMMPS *lmp, const MeshOutput &out)
 {
-  for (const auto &m : out.mesh_ids) FixMeshSurface::find(lmp, m, out.caller);
+  for (const auto &m : out.mesh_ids) FixMeshSurface::find(lmp, m, out.caller)->keep_whole();  // the writer needs every triangle
 }
 
 void write_mesh_frame(LAMMPS *lmp, const MeshOutput &out)

@@ -96,6 +96,10 @@ long MeshNeighbors::bin_of(const Vec3 &p) const
 void MeshNeighbors::build(const TriangleMesh &m, int n, const double *const *x, const double *radius,
                           const int *skip, double s)
 {
+  first_.assign(n + 1, 0);
+  tri_.clear();
+  tests_ = 0;
+  if (m.size() == 0) return;  // a rank of a distributed mesh may keep no triangle
   double rmax = 0.0;
   for (int i = 0; i < n; ++i)
     if (!skip || !skip[i]) rmax = std::max(rmax, radius[i]);
@@ -105,9 +109,6 @@ void MeshNeighbors::build(const TriangleMesh &m, int n, const double *const *x, 
     binned_version_ = m.geometry_version();
     binned_reach_ = rmax + s;
   }
-  first_.assign(n + 1, 0);
-  tri_.clear();
-  tests_ = 0;
   for (int i = 0; i < n; ++i) {
     first_[i] = static_cast<int>(tri_.size());
     if (skip && skip[i]) continue;

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <type_traits>
 #include <map>
 #include <sstream>
 
@@ -71,6 +73,8 @@ TriangleMesh::TriangleMesh(std::vector<TriangleNodes> triangles, const MeshOptio
     compute_center_rbound(t);
   }
   build_topology(ids);
+  global_size_ = size();
+  bounding_box(box_lo_, box_hi_);
 }
 
 void TriangleMesh::validate()
@@ -248,6 +252,7 @@ Vec3 TriangleMesh::velocity_at(int t, const Vec3 &b) const
 void TriangleMesh::translate(const Vec3 &dx)
 {
   ++version_;
+  moved_ = true;
   for (auto &nd : node_)
     for (auto &p : nd) p = add(p, dx);
   for (auto &c : center_) c = add(c, dx);
@@ -257,6 +262,7 @@ void TriangleMesh::translate(const Vec3 &dx)
 void TriangleMesh::rotate(double dphi, const Vec3 &axis, const Vec3 &origin)
 {
   ++version_;
+  moved_ = true;
   const Quat q = axis_angle_quat(div_by(axis, norm(axis)), dphi);
   const bool shift = dot(origin, origin) > 0.0;
   auto rot_point = [&](Vec3 &p) {
@@ -288,6 +294,7 @@ void TriangleMesh::place_nodes(const std::vector<TriangleNodes> &nodes)
     throw MeshError("place_nodes: expected " + std::to_string(node_.size()) + " triangles, got " +
                     std::to_string(nodes.size()));
   ++version_;
+  moved_ = true;
   node_ = nodes;
   for (int t = 0; t < size(); ++t) {
     compute_geometry(t);
@@ -305,18 +312,31 @@ int TriangleMesh::attach_point(const Vec3 &p)
 }
 
 namespace {
+constexpr double kUnmoved = -1.0;  // third word of a saved state whose nodes are the file's
 void put(std::vector<double> &b, const Vec3 &v) { b.insert(b.end(), v.begin(), v.end()); }
 void get(const std::vector<double> &b, std::size_t &i, Vec3 &v)
 {
   for (int k = 0; k < 3; ++k) v[k] = b.at(i++);
+}
+// get(), noting whether the value changed
+void get(const std::vector<double> &b, std::size_t &i, Vec3 &v, bool &changed)
+{
+  const Vec3 old = v;
+  get(b, i, v);
+  changed = changed || old != v;
 }
 }  // namespace
 
 std::vector<double> TriangleMesh::save_state() const
 {
   std::vector<double> b;
-  b.push_back(double(size()));
+  b.push_back(double(global_size_));
   b.push_back(double(attached_.size()));
+  if (!moved_) {  // the nodes are still those of the file: only the attached points (any rank may keep a part)
+    b.push_back(kUnmoved);
+    for (const auto &p : attached_) put(b, p);
+    return b;
+  }
   b.push_back(vel_.empty() ? 0.0 : 1.0);
   for (int t = 0; t < size(); ++t) {
     for (int k = 0; k < 3; ++k) {
@@ -339,33 +359,123 @@ void TriangleMesh::restore_state(const std::vector<double> &b)
 {
   ++version_;
   std::size_t i = 0;
-  if (b.size() < 3 || int(b[0]) != size())
+  if (b.size() < 3 || int(b[0]) != global_size_)
     throw MeshError("the restart file holds a mesh with a different number of triangles");
   const std::size_t nattached = std::size_t(b[1]);
-  const bool has_vel = b[2] != 0.0;
   i = 3;
+  if (b[2] == kUnmoved) {
+    if (moved_) throw MeshError("the saved mesh is at its file position but this one has moved");
+    restore_attached(b, i, nattached);
+    return;
+  }
+  if (!whole()) throw MeshError("a moved mesh state needs the whole mesh (this rank keeps a part of it)");
+  const bool has_vel = b[2] != 0.0;
   if (has_vel) zero_velocity();
   else vel_.clear();
   try {
     for (int t = 0; t < size(); ++t) {
       for (int k = 0; k < 3; ++k) {
-        get(b, i, node_[t][k]);
-        get(b, i, edge_vec_[t][k]);
-        get(b, i, edge_norm_[t][k]);
+        get(b, i, node_[t][k], moved_);
+        get(b, i, edge_vec_[t][k], moved_);
+        get(b, i, edge_norm_[t][k], moved_);
         if (has_vel) get(b, i, vel_[t][k]);
       }
-      get(b, i, edge_len_[t]);
-      get(b, i, normal_[t]);
-      get(b, i, center_[t]);
+      get(b, i, edge_len_[t], moved_);
+      get(b, i, normal_[t], moved_);
+      get(b, i, center_[t], moved_);
+      moved_ = moved_ || area_[t] != b.at(i) || obtuse_[t] != std::int8_t(b.at(i + 1));
       area_[t] = b.at(i++);
       obtuse_[t] = std::int8_t(b.at(i++));
     }
-    restored_attached_.resize(nattached);
-    for (auto &p : restored_attached_) get(b, i, p);
-    for (std::size_t k = 0; k < attached_.size() && k < nattached; ++k) attached_[k] = restored_attached_[k];
+    restore_attached(b, i, nattached);
   } catch (const std::out_of_range &) {
     throw MeshError("the mesh state in the restart file is truncated");
   }
+}
+
+void TriangleMesh::restore_attached(const std::vector<double> &b, std::size_t i, std::size_t n)
+{
+  if (i + 3 * n > b.size()) throw MeshError("the mesh state in the restart file is truncated");
+  restored_attached_.resize(n);
+  for (auto &p : restored_attached_) get(b, i, p);
+  for (std::size_t k = 0; k < attached_.size() && k < n; ++k) attached_[k] = restored_attached_[k];
+}
+
+int TriangleMesh::local_id(int g) const
+{
+  if (gid_.empty()) return g >= 0 && g < size() ? g : -1;
+  const auto it = std::lower_bound(gid_.begin(), gid_.end(), g);
+  return it != gid_.end() && *it == g ? int(it - gid_.begin()) : -1;
+}
+
+void TriangleMesh::keep_only(const std::vector<int> &ids)
+{
+  ++version_;
+  std::vector<int> new_of(node_.size(), -1);
+  for (std::size_t j = 0; j < ids.size(); ++j) new_of[std::size_t(ids[j])] = int(j);
+  auto pick = [&ids](auto &v) {
+    if (v.empty()) return;
+    std::remove_reference_t<decltype(v)> kept;
+    kept.reserve(ids.size());
+    for (int t : ids) kept.push_back(v[std::size_t(t)]);
+    v.swap(kept);
+  };
+  pick(node_);
+  pick(edge_vec_);
+  pick(edge_norm_);
+  pick(edge_len_);
+  pick(normal_);
+  pick(center_);
+  pick(rbound_);
+  pick(area_);
+  pick(obtuse_);
+  pick(active_);
+  pick(vel_);
+  std::vector<std::vector<int>> neigh(ids.size());
+  for (std::size_t j = 0; j < ids.size(); ++j)
+    for (int u : neigh_[std::size_t(ids[j])])
+      if (new_of[std::size_t(u)] >= 0) neigh[j].push_back(new_of[std::size_t(u)]);
+  neigh_.swap(neigh);
+  std::vector<int> gid(ids.size());
+  for (std::size_t j = 0; j < ids.size(); ++j) gid[j] = global_id(ids[j]);
+  gid_.swap(gid);
+}
+
+void TriangleMesh::bounding_box(Vec3 &lo, Vec3 &hi) const
+{
+  if (!whole() || node_.empty()) {
+    lo = box_lo_;
+    hi = box_hi_;
+    return;
+  }
+  lo = node_[0][0];
+  hi = lo;
+  for (const auto &nd : node_)
+    for (const auto &p : nd)
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = std::min(lo[d], p[d]);
+        hi[d] = std::max(hi[d], p[d]);
+      }
+}
+
+std::uint64_t TriangleMesh::node_digest() const
+{
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a
+  for (const auto &nd : node_)
+    for (const auto &p : nd)
+      for (double c : p) {
+        std::uint64_t bits;
+        std::memcpy(&bits, &c, sizeof bits);
+        h = (h ^ bits) * 1099511628211ull;
+      }
+  return h;
+}
+
+void TriangleMesh::take_attached_points(const TriangleMesh &from)
+{
+  attached_ = from.attached_;
+  restored_attached_ = from.restored_attached_;
+  version_ = from.version_ + 1;
 }
 
 double TriangleMesh::memory_bytes() const
@@ -373,6 +483,7 @@ double TriangleMesh::memory_bytes() const
   double bytes = double(node_.size()) * (sizeof(TriangleNodes) * 3 + sizeof(Vec3) * 3 + sizeof(double) * 2 + 2);
   bytes += double(vel_.size()) * sizeof(std::array<Vec3, 3>);
   for (const auto &nb : neigh_) bytes += sizeof(nb) + nb.capacity() * sizeof(int);
+  bytes += double(gid_.capacity()) * sizeof(int);
   return bytes;
 }
 

@@ -10,6 +10,8 @@
 //    refresh_geometry(), which the glue calls at every re-neighbouring step (the §7.3 quirk).
 //  * edge_active / corner_active are fixed at construction (§4.3) and never recomputed.
 //  * node_velocity(t, k) is zero for a static mesh; movers set it each step (§7.1, §7.2).
+//  * A distributed rank keeps a subset (keep_only): local ids 0..size()-1 stay in ascending file
+//    order, global_id(t) is the file-order id (history keys, output), local_id(g) the way back.
 //  * The sphere-triangle distance is in triangle_contact.h, the binned candidate search in
 //    mesh_neighbors.h, the movers in mesh_movers.h. Nothing here depends on LAMMPS.
 #pragma once
@@ -44,6 +46,22 @@ class TriangleMesh {
   TriangleMesh(std::vector<TriangleNodes> triangles, const MeshOptions &opt = {});
 
   int size() const { return static_cast<int>(node_.size()); }
+  // The whole mesh's triangle count and the file-order id of local triangle t (identity while whole).
+  int global_size() const { return global_size_; }
+  bool whole() const { return gid_.empty(); }
+  int global_id(int t) const { return gid_.empty() ? t : gid_[t]; }
+  int local_id(int g) const;  // -1 if triangle g is not kept here
+  // Keep only the triangles with the given local ids (ascending): geometry, flags, velocities and
+  // node-neighbour lists (restricted to the kept ones) follow; attached points stay.
+  void keep_only(const std::vector<int> &ids);
+  // Bounding box of the whole mesh's nodes (for a distributed mesh: as it was when it was split).
+  void bounding_box(Vec3 &lo, Vec3 &hi) const;
+  // Whether a node has ever moved (translate, rotate, place_nodes, a restored state that differs).
+  bool moved() const { return moved_; }
+  // Hash of every node coordinate's bits (tells whether a re-read file still holds the same mesh).
+  std::uint64_t node_digest() const;
+  // Attached points (and restored ones) of another mesh of the same file, after a reload.
+  void take_attached_points(const TriangleMesh &from);
   const MeshOptions &options() const { return opt_; }
   int removed_duplicates() const { return removed_duplicates_; }
 
@@ -92,6 +110,8 @@ class TriangleMesh {
   // Restart: the full motion state (nodes, the incrementally updated vectors, velocities,
   // attached points) as doubles; restore_state() requires a mesh built from the same file. Points
   // attached after restore_state() (in the same order as before) get their saved positions.
+  // A mesh that never moved saves only its attached points (its nodes are the file's), so a
+  // distributed rank's part gives the whole state.
   std::vector<double> save_state() const;
   void restore_state(const std::vector<double> &buf);
 
@@ -115,10 +135,15 @@ class TriangleMesh {
   std::vector<Vec3> attached_;
   std::vector<Vec3> restored_attached_;  // from restore_state(), for points attached afterwards
   std::uint64_t version_ = 0;
+  int global_size_ = 0;
+  std::vector<int> gid_;  // empty while whole
+  Vec3 box_lo_{}, box_hi_{};  // kept by keep_only()
+  bool moved_ = false;
 
   void validate();
   void compute_geometry(int t);
   void compute_center_rbound(int t);
+  void restore_attached(const std::vector<double> &b, std::size_t i, std::size_t n);
   void build_topology(const std::vector<std::array<int, 3>> &node_id);
 };
 

@@ -115,6 +115,7 @@ TEST(MeshNeighbors, HundredThousandTrianglesWorkAndCostDoesNotScaleWithTriangles
   EXPECT_GT(b.total(), 0u);
 }
 
+
 }  // namespace
 }  // namespace dembridge::mesh::test
 
@@ -139,6 +140,55 @@ TEST(MeshNeighbors, BinsFollowTheMeshWhenItMoves)
   q[2] = 0.0131;
   nb.build(m, 1, &x, &r, nullptr, 0.0005);
   EXPECT_EQ(nb.count(0), 2);
+}
+
+// A rank's part of the mesh (keep_only): the candidates of a particle in the kept region are those of
+// the whole mesh (file-order ids, same order); node-neighbour and coplanarity answers are the whole
+// mesh's; an empty part builds and finds nothing.
+TEST(MeshNeighbors, KeptPartFindsTheWholeMeshCandidates)
+{
+  const TriangleMesh whole = wavy_sheet(20, 15);
+  TriangleMesh part = wavy_sheet(20, 15);
+  std::vector<int> ids;
+  for (int t = 0; t < whole.size(); ++t)
+    if (whole.center(t)[0] < 0.5) ids.push_back(t);
+  part.keep_only(ids);
+  ASSERT_EQ(part.size(), int(ids.size()));
+  EXPECT_EQ(part.global_size(), whole.size());
+  EXPECT_FALSE(part.whole());
+  Vec3 lo, hi, wlo, whi;
+  part.bounding_box(lo, hi);
+  whole.bounding_box(wlo, whi);
+  EXPECT_EQ(lo, wlo);
+  EXPECT_EQ(hi, whi);
+  Particles p = random_particles(2000, 11, 0.005, 0.02);
+  std::vector<int> skip(p.r.size(), 0);
+  for (std::size_t i = 0; i < p.r.size(); ++i) skip[i] = p.pos[i][0] > 0.5 - 0.02 - 0.004 - 1.0 / 20;  // beyond the part's reach
+  MeshNeighbors nw, np;
+  nw.build(whole, int(p.r.size()), p.x.data(), p.r.data(), skip.data(), 0.004);
+  np.build(part, int(p.r.size()), p.x.data(), p.r.data(), skip.data(), 0.004);
+  std::size_t found = 0;
+  for (int i = 0; i < int(p.r.size()); ++i) {
+    ASSERT_EQ(np.count(i), nw.count(i)) << "particle " << i;
+    for (int c = 0; c < nw.count(i); ++c) {
+      const int t = np.begin(i)[c];
+      ASSERT_EQ(part.global_id(t), nw.begin(i)[c]);
+      ASSERT_EQ(part.local_id(part.global_id(t)), t);
+      ASSERT_EQ(part.nodes(t), whole.nodes(nw.begin(i)[c]));
+      for (int c2 = 0; c2 < nw.count(i); ++c2)
+        ASSERT_EQ(part.coplanar_node_neighbors(t, np.begin(i)[c2]),
+                  whole.coplanar_node_neighbors(nw.begin(i)[c], nw.begin(i)[c2]));
+    }
+    found += std::size_t(nw.count(i));
+  }
+  EXPECT_GT(found, 100u);
+  EXPECT_EQ(part.local_id(whole.size() - 1), -1);  // a triangle at x near 1 is not kept
+  TriangleMesh none = wavy_sheet(2, 2);
+  none.keep_only({});
+  MeshNeighbors ne;
+  ne.build(none, int(p.r.size()), p.x.data(), p.r.data(), nullptr, 0.004);
+  EXPECT_EQ(ne.total(), 0u);
+  EXPECT_EQ(ne.count(0), 0);
 }
 
 }  // namespace

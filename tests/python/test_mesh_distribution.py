@@ -1,6 +1,6 @@
 """Distributed meshes (tests/decks/in.mesh_distribution): 200 spheres thrown into a static STL funnel
-(fix mesh/surface/stress, 60 triangles) under a lid moved down by fix move/mesh, 1000 steps, pairs and
-mesh walls with tangential history (1000 steps: 4 ranks oversubscribe a 2-core machine).
+(fix mesh/surface/stress, 60 triangles) under a lid moved down by fix move/mesh, 500 steps, pairs and
+mesh walls with tangential history (few steps: 4 ranks oversubscribe a 2-core machine).
 * The funnel is split over 4 ranks (each keeps a part), the moving lid stays whole, and the atoms,
   the wall contacts with their history springs and the stress totals equal those of the replicated
   mesh ('distribute no') bit for bit (tolerance 0), on 1, 2 and 4 ranks.

@@ -38,8 +38,9 @@ extern "C" __attribute__((visibility("default"))) void lammpsplugin_init(void *l
                                                      std::getenv("DEMBRIDGE_ALLOW_VERSION_MISMATCH"));
   // logmesg writes on every rank that has a screen during plugin auto-load: print once
   const bool first_rank = host->comm->me == 0;
+  // a refusal stops the deck (an exception in Python); before it, nothing of the plugin ran but this check
+  if (!verdict.accept) host->error->all(FLERR, verdict.message);
   if (!verdict.message.empty() && first_rank) LAMMPS_NS::utils::logmesg(host, verdict.message + "\n");
-  if (!verdict.accept) return;
   // regfunc is LAMMPS's plugin_register: in liblammps, whose dependencies name the MPI it runs on
   const auto host_mpi = dembridge::mpi_of_object(regfunc);
   const auto mpi_why = dembridge::mpi_mismatch_message(dembridge::mpi_flavour_from_name(DEMBRIDGE_MPI_FLAVOUR),

@@ -12,8 +12,8 @@ VersionVerdict check_host_version(int built, int host, const char *host_string, 
       "); class layouts differ between versions";
   const bool forced = override_env && *override_env && std::strcmp(override_env, "0") != 0;
   if (forced) return {true, "WARNING: " + what + ", loading anyway because DEMBRIDGE_ALLOW_VERSION_MISMATCH is set"};
-  return {false, "ERROR: " + what + ", so no styles were registered. Rebuild dembridge against this LAMMPS "
-                 "(cmake -DLAMMPS_DIR=...) or set DEMBRIDGE_ALLOW_VERSION_MISMATCH=1 at your own risk."};
+  return {false, what + ", so no styles were registered. Rebuild dembridge against this LAMMPS "
+                "(cmake -DLAMMPS_DIR=...) or set DEMBRIDGE_ALLOW_VERSION_MISMATCH=1 at your own risk."};
 }
 
 std::string lammps_date(int num_ver)

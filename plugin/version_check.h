@@ -7,7 +7,7 @@ namespace dembridge {
 
 struct VersionVerdict {
   bool accept;
-  std::string message;  // why it was refused, or a warning when an override was used
+  std::string message;  // why it was refused (the text of an ERROR), or a warning when an override was used
 };
 
 // built: numeric version compiled against (YYYYMMDD); host: lmp->num_ver; host_string: lmp->version.

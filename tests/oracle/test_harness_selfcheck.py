@@ -298,6 +298,7 @@ ITEM: ATOMS id type fx fy fz tqx tqy tqz x y z vx vy vz omegax omegay omegaz
     assert f.box[0] == [0.0, 1.0, 0.0]
 
 
+@pytest.mark.two_cores
 @pytest.mark.lammps
 @pytest.mark.liggghts
 def test_run_lammps_stock_styles_and_read_lammps_dump(oracle_dir, tmp_path):

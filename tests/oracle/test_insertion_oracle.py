@@ -15,6 +15,8 @@ import pytest
 
 import oracle_harness as oh
 
+pytestmark = pytest.mark.two_cores  # 2 and 4 ranks against LIGGGHTS frames that every test shares
+
 DATA = Path(__file__).resolve().parents[1] / "data" / "liggghts-insertion"
 DECKS = sorted(p.name[3:] for p in DATA.glob("in.*"))
 MESHES = sorted(DATA.glob("*.stl"))  # the insertion faces of the insert/stream decks

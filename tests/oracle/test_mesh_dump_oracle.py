@@ -23,6 +23,8 @@ import pytest
 
 import oracle_harness as oh
 
+pytestmark = pytest.mark.two_cores  # 2 ranks against a LIGGGHTS run that both cases share
+
 ROOT = Path(__file__).resolve().parent.parent
 CASE = ROOT / "data" / "liggghts-walls" / "mesh_dump_rotating"
 STEPS = range(0, 2001, 500)

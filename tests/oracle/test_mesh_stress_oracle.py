@@ -19,7 +19,7 @@ def read_rows(lines):
     return {int(t[0]): [float(c) for c in t[1:]] for t in (l.split() for l in lines) if t and not t[0].startswith("#")}
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 def test_mesh_force_and_torque_per_step_match_liggghts(plugin, tmp_path, nprocs):
     deck = oh.liggghts_to_lammps_deck((CASE / "in.liggghts").read_text(), plugin_path=plugin, syntax="3x")
     oh.run_lammps(deck, tmp_path, nprocs=nprocs, files=[CASE / "data.txt", CASE / "plate.stl"])

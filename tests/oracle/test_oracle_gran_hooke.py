@@ -14,7 +14,7 @@ CASES = ["hooke_oblique_nohistory", "multipair_hooke_nohist"]
 
 @pytest.mark.plugin
 @pytest.mark.liggghts
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 @pytest.mark.parametrize("case", CASES)
 def test_oracle_gran_hooke(plugin, tmp_path, case, nprocs):
     rep = oh.check_case(case, rtol=0.0, nprocs=nprocs, live=True, syntax="3x", workdir=tmp_path, plugin=plugin)

@@ -17,14 +17,14 @@ CASES = [
 ]
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 @pytest.mark.parametrize("case", CASES)
 def test_3x_syntax_matches_liggghts(plugin, tmp_path, case, nprocs):
     rep = oh.check_case(case, rtol=0.0, nprocs=nprocs, live=True, syntax="3x", workdir=tmp_path, plugin=plugin)
     assert rep.passed, rep.summary()
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 @pytest.mark.parametrize("case", CASES)
 def test_2x_syntax_matches_2x_model(plugin, tmp_path, case, nprocs):
     rep = oh.check_case(case, rtol=0.0, nprocs=nprocs, semantics="2x", syntax="2x", workdir=tmp_path, plugin=plugin)

@@ -30,14 +30,14 @@ RTOL_LIGGGHTS = {1: 0.0, 2: RTOL_2_RANKS}
 RTOL_2X_MODEL = {1: 1e-14, 2: RTOL_2_RANKS}
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 @pytest.mark.parametrize("case", ROLLING + MULTIPAIR + COHESION_38)
 def test_3x_syntax_matches_liggghts(plugin, tmp_path, case, nprocs):
     rep = oh.check_case(case, rtol=RTOL_LIGGGHTS[nprocs], nprocs=nprocs, live=True, syntax="3x", workdir=tmp_path, plugin=plugin)
     assert rep.passed, rep.summary()
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 @pytest.mark.parametrize("case", ROLLING + MULTIPAIR + COHESION_2X)
 def test_2x_syntax_matches_2x_model(plugin, tmp_path, case, nprocs):
     rep = oh.check_case(case, rtol=RTOL_2X_MODEL[nprocs], nprocs=nprocs, semantics="2x", syntax="2x", workdir=tmp_path, plugin=plugin)
@@ -59,7 +59,7 @@ def test_viscous_headon_matches_liggghts_while_approaching(plugin, tmp_path):
     assert rep.passed, rep.summary()
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 def test_gas200_periodic_whole_run(plugin, tmp_path, nprocs):
     """200 polydisperse spheres, hertz + cdt, periodic, 6000 steps: with 3.8's rule that a separated
     pair keeps its springs until the next neighbour-rebuild step (issue 12), every frame is bit-identical

@@ -17,6 +17,7 @@ def test_settle200_serial_every_frame(plugin, tmp_path):
     assert len(rep.steps_compared) == 21
 
 
+@pytest.mark.two_cores
 def test_settle200_two_ranks_until_split_pair_roundoff(plugin, tmp_path):
     """On 2 ranks a pair split across ranks is evaluated from both sides with i and j swapped
     (newton off), which rounds differently; in this chaotic bed that first shows at step 18000
@@ -27,7 +28,7 @@ def test_settle200_two_ranks_until_split_pair_roundoff(plugin, tmp_path):
     assert len(rep.steps_compared) == 9
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 def test_bounce_bigskin_stale_spring(plugin, tmp_path, nprocs):
     """One neighbour build in 20000 steps: the second impact starts from the first impact's spring
     in 3.8 (bounce_smallskin, rebuilt in between, starts from zero; both in test_oracle_history)."""

@@ -26,7 +26,7 @@ MESH_CASES = [
 ]
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 @pytest.mark.parametrize("case", PRIMITIVE_CASES + MESH_CASES)
 def test_wall_case_matches_liggghts(plugin, tmp_path, case, nprocs):
     rep = oh.check_case(DATA / case, rtol=0.0, nprocs=nprocs, live=True, syntax="3x", workdir=tmp_path, plugin=plugin)

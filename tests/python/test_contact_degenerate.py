@@ -28,7 +28,7 @@ COINCIDENT = (r"ERROR.*pair_style gran/hooke/history: atom 1 at \(0\.1\d* 0\.2\d
               r"\(0\.1\d* 0\.2\d* 0\.29\d*\) are coincident")
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 def test_coincident_spheres_error_names_the_atoms(tmp_path, nprocs):
     res, _ = run(tmp_path, True, 0.0, nprocs)
     assert res.returncode != 0
@@ -37,6 +37,7 @@ def test_coincident_spheres_error_names_the_atoms(tmp_path, nprocs):
     assert "nan" not in out.lower()
 
 
+@pytest.mark.two_cores
 def test_two_rank_error_line_survives_the_abort(tmp_path):
     """Only rank 1 finds the pair; its MPI_Abort used to end the job before the launcher forwarded its
     output (2 in 200 piped runs lost the ERROR line). Repeated: every run must show it."""

@@ -311,6 +311,7 @@ def test_split_runs_and_integrated_coupled_atom_change_nothing(sockdir):
         assert read_traj(traj) == ref, change
 
 
+@pytest.mark.two_cores
 def test_spring_mass_rank_invariance(sockdir):
     e1, rows1, _ = spring_mass_error(sockdir, 0.004, substeps=2, T=0.4)
     e2, rows2, _ = spring_mass_error(sockdir, 0.004, substeps=2, T=0.4, nprocs=2)
@@ -412,6 +413,7 @@ def run_plate(sockdir, nprocs):
     return parse_thermo(out, 13), read_dump(dump)
 
 
+@pytest.mark.two_cores
 def test_rigid_group_loads_equal_independent_compute_serial_and_2_ranks(sockdir):
     results = {}
     for nprocs in (1, 2):
@@ -586,6 +588,7 @@ def test_bad_input(case, sockdir):
     assert secs < 15  # reported before any connect attempt
 
 
+@pytest.mark.two_cores
 def test_tight_iterations_do_not_disturb_the_particles(sockdir):
     """Tight iterates re-evaluate forces only (coupled atoms at the iterate's pose, every other atom
     where it is, contact history not updated). With a body so heavy that MBDyn's later iterates

@@ -15,6 +15,8 @@ import pytest
 import dembridge
 import spring_lattice
 
+pytestmark = pytest.mark.two_cores  # OpenMP threads (2) in most tests
+
 NX, NY, NZ = 5, 6, 7
 STEPS = 300
 KINDS = ["KP ratio 0.05 plane", "K ratio 0.05", "KP ratio 0.05 friction 0.1 kskn 0.5 plane"]

@@ -115,7 +115,7 @@ def close(a, b, scale, rtol=1e-12):
     return abs(a - b) <= rtol * scale
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 def test_heat_deck_against_liggghts(tmp_path, nprocs):
     if not Path(oh.liggghts_exe()).is_file():
         pytest.fail("LIGGGHTS 3.8 (/usr/bin/liggghts) is missing: the Debian package 'liggghts' is a test requirement")

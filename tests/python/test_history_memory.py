@@ -33,7 +33,7 @@ def phases(tmp_path, nprocs):
     return out["DENSE"], out["DILUTE"]
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 def test_memory_falls_after_dilution(tmp_path, nprocs):
     dense, dilute = phases(tmp_path, nprocs)
     print(f"{nprocs} ranks: dense {dense}, dilute {dilute}, contact bytes per contact {dense['cbytes'] / dense['contacts']:.1f}")

@@ -63,7 +63,7 @@ def move_before_pair_style(text, prefixes):
     return "\n".join(rest[:k] + moved + rest[k:]) + "\n"
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 def test_pour_equals_builtin(tmp_path, nprocs):
     ref = compare_with_builtin(tmp_path, deck("in.pour_history"), nprocs)
     assert ref[-1][0] == 12000 and ref[-1][1] > 1500, "fix pour must have inserted atoms in several batches"
@@ -80,13 +80,13 @@ def test_pour_defined_before_pair_style(tmp_path):
     assert wrong != ref, "expected the built-in to depend on the fix order (else this test shows nothing)"
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 def test_evaporate_equals_builtin(tmp_path, nprocs):
     ref = compare_with_builtin(tmp_path, deck("in.evaporate_history"), nprocs)
     assert ref[-1][0] == 12000 and ref[-1][1] < ref[0][1] - 200, "fix evaporate must have deleted atoms"
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 def test_deposit_and_evaporate_equal_builtin(tmp_path, nprocs):
     ref = compare_with_builtin(tmp_path, deck("in.evaporate_history"), nprocs, [("deposit", "yes")])
     no_deposit, _ = run(str(tmp_path), deck("in.evaporate_history"), "nodep", False, nprocs)
@@ -99,7 +99,7 @@ def test_evaporate_defined_before_pair_style(tmp_path):
     compare_with_builtin(tmp_path, early, 1, builtin_text=text)
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 def test_delete_and_create_atoms_between_runs(tmp_path, nprocs):
     """delete_atoms (compress no / yes) and create_atoms between two runs. With compress yes the
     atom IDs are renumbered: the plugin follows them and equals the built-in with compress no;
@@ -119,7 +119,7 @@ def overlay_deck():
     return text.replace("pair_coeff      2 2 gran/hertz/history\n", "pair_coeff      2 2 gran/hertz/history\npair_coeff      1 2 soft 3.0\n")
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 @pytest.mark.parametrize("variant", ["hybrid", "overlay_soft"])
 def test_hybrid_equals_builtin(tmp_path, variant, nprocs):
     text = deck("in.hybrid_history") if variant == "hybrid" else overlay_deck()

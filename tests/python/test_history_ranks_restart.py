@@ -56,6 +56,7 @@ def serial(request, tmp_path_factory):
     return request.param, read_final(out / "final.all.dump")
 
 
+@pytest.mark.two_cores
 @pytest.mark.parametrize("nprocs", [2, 3, 4])
 def test_rank_invariance(serial, tmp_path, nprocs):
     model, serial = serial

@@ -46,7 +46,7 @@ DECKS = {
 DECK_DIR = {"in.rigid_clumps": os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "decks")}
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 @pytest.mark.parametrize("name", sorted(DECKS))
 def test_plugin_equals_builtin(tmp_path, name, nprocs):
     deck, pair_style, extra = DECKS[name]

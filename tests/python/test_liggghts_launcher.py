@@ -18,6 +18,8 @@ from test_bad_input import run_deck
 from liggghts_decks import LAUNCHER, copy_deck, errors, launcher_env, run, run_launcher, run_liggghts, warnings
 from vtk_reader import read_legacy
 
+pytestmark = pytest.mark.two_cores  # the shared launcher runs include 2 ranks
+
 # deck -> the error texts of the commands it needs that are not in the plugin yet
 PENDING = {}
 # deck -> why it still differs from LIGGGHTS although every command exists (xfail strict on the assertion)

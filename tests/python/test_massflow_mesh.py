@@ -15,6 +15,8 @@ from bad_input_check import assert_error  # noqa: E402
 from test_bad_input import run_deck  # noqa: E402
 from dembridge import thermo_rows  # noqa: E402
 
+pytestmark = pytest.mark.two_cores  # 2 ranks against a LIGGGHTS run that both cases share
+
 CASE = ROOT / "tests" / "data" / "liggghts-massflow"
 FUNNEL = ROOT / "tests" / "data" / "liggghts-walls" / "hopper200_funnel_settle"  # data.txt, funnel.stl
 FACE = CASE / "face.stl"

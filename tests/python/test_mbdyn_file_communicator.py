@@ -74,7 +74,7 @@ def folder(tmp_path):
     return str(tmp_path)
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 def test_fix_mbdyn_answers_the_recorded_in_files(folder, nprocs):
     seq = read_sequence()
     outs = [t for k, _, t in seq if k == "OUT"]

@@ -124,6 +124,7 @@ def cross(a, b):
     return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 
 
+@pytest.mark.two_cores
 def test_vertices_follow_the_mapped_points_and_loads_are_the_wall_forces(sockdir):
     rows = transcript()
     steps = len(messages(rows)) - 1  # loose, one sub-step: LAMMPS step n holds message n (0: t0)

@@ -93,6 +93,7 @@ def run_mesh(sockdir, nprocs, steps=300):
     return parse_thermo(out, 22), kin
 
 
+@pytest.mark.two_cores
 def test_mesh_follows_node_and_loads_are_the_mesh_force_and_moment(sockdir):
     results = {}
     for nprocs in (1, 2):

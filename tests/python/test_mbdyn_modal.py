@@ -118,7 +118,7 @@ def run_case(sockdir, transcript, type_, nloads, forces, nprocs=1):
     return rows, mbdyn, read_dump(dump)
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 def test_type_modal_answers_the_recorded_generalized_forces(sockdir, nprocs):
     forces = "variable fy atom -100*y-vy/3\nvariable fz atom -50*z-vz/6\nfix law all addforce 0.0 v_fy v_fz"
     rows, mbdyn, _ = run_case(sockdir, "transcript_modal_type_modal.csv", "modal", 2, forces, nprocs)

@@ -143,7 +143,8 @@ def sockdir():
     shutil.rmtree(d, ignore_errors=True)
 
 
-@pytest.mark.parametrize("coupling,nprocs", [("loose", 1), ("tight", 1), ("loose", 2)])
+@pytest.mark.parametrize("coupling,nprocs", [("loose", 1), ("tight", 1),
+                                             pytest.param("loose", 2, marks=pytest.mark.two_cores)])
 def test_fix_mbdyn_answers_the_recorded_refnode_loads(coupling, nprocs, sockdir):
     rows = read(f"transcript_{coupling}.csv.gz")
     steps = sum(1 for _, d, c, _ in rows if d == "peer->mbdyn" and c == 6) - 1  # minus the start-up answer

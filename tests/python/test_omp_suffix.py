@@ -10,6 +10,8 @@ import pytest
 
 import dembridge
 
+pytestmark = pytest.mark.two_cores  # OpenMP threads (2) in most tests
+
 DECK = """
 plugin load {plugin}
 {suffix}

@@ -22,6 +22,8 @@ import pytest
 
 import dembridge
 
+pytestmark = pytest.mark.two_cores  # OpenMP threads (2) in most tests
+
 DENSE = """
 plugin load {plugin}
 {suffix}

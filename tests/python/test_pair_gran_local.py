@@ -299,6 +299,7 @@ def _run_exe(workdir, lines, nprocs, tag):
     subprocess.run(cmd, cwd=workdir, check=True, timeout=600)
 
 
+@pytest.mark.two_cores
 @pytest.mark.parametrize("pair,newton", [("hooke_history_2x", "off"), ("hertz_history_lammps", "off"),
                                          ("hooke_2x_no_history", "on")])
 def test_two_ranks_each_pair_once(tmp_path, pair, newton):

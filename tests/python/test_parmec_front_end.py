@@ -611,6 +611,7 @@ def test_eqm_and_critical(tmp_path):
     run_script(str(script), [], workdir=str(tmp_path))
 
 
+@pytest.mark.two_cores
 def test_mpi_ranks_give_the_same_histories(tmp_path):
     """`mpiexec -n 2/4 python -m dembridge.parmec` on the joint chain: HISTORY lists equal to the 1-rank run
     (bitwise: the joint solve is replicated in body order, the integration is per atom)."""

@@ -275,6 +275,7 @@ def test_obstacle_motion_by_callback_or_tseries_over_two_dem_calls(tmp_path):
     assert got["callback"] == got["tseries"]
 
 
+@pytest.mark.two_cores
 def test_one_and_two_ranks_agree(tmp_path):
     """The moving-obstacle pile on 1 and 2 MPI ranks, the spheres sliding at 3 m/s across the rank boundary
     (their contact springs migrate with them): every HISTORY value within 1e-12 (relative)."""

@@ -145,6 +145,7 @@ DEM(0.1, 2e-5, 0.01)
 """ % (BOX_NODES, BOX_ELEMENT.replace(", m]", ", light]"))
 
 
+@pytest.mark.two_cores
 def test_one_and_two_ranks_agree(tmp_path):
     """16 spheres sliding and spinning at 3 m/s across a MESH box (restrained to its plane, dragged by them), across
     the rank boundary: every HISTORY value of the spheres and the box on 1 and 2 MPI ranks within 1e-12."""

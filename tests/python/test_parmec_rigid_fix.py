@@ -60,6 +60,7 @@ def joint_drift(atoms):
     return worst
 
 
+@pytest.mark.two_cores
 def test_joint_chain_1000_bodies_rank_invariant_and_restart(tmp_path):
     steps = 1000
     res = {}

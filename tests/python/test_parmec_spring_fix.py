@@ -392,6 +392,7 @@ def local_by_id(rows):
     return {int(r[0]): r[1:] for r in rows}
 
 
+@pytest.mark.two_cores
 def test_chain_one_vs_two_ranks(tmp_path):
     steps = 3000
     res = {}
@@ -445,6 +446,7 @@ def tensor_eqm_deck(tmp, inertia):
             f"dump L all local 1 {tmp}/loc.dump f_S[1] f_S[8]", "dump_modify L format float %.17g", "run 1"]
 
 
+@pytest.mark.two_cores
 def test_ratio_dashpot_eqm_uses_the_inertia_tensors(tmp_path):
     """With 'inertia J' the equivalent mass of a ratio dashpot (spec §12) uses each body's tensor, on part2 also
     as a ghost atom (2 ranks): m_eq = 1 / (d^T (sum_b I/m_b + [A_b]x^T J_b^-1 [A_b]x) d), A = X - P, against NumPy
@@ -494,6 +496,7 @@ def hub_deck(tmp, steps, n=70):
                     "dump_modify A sort id format float %.17g", f"run {steps}"]
 
 
+@pytest.mark.two_cores
 def test_hub_one_vs_two_ranks(tmp_path):
     """More than 64 springs on one atom: sums are not reordered, so 1 and 2 ranks agree to round-off."""
     res = {}
@@ -546,6 +549,7 @@ def net_deck(tmp, steps, nx=40, ny=25):
             "dump_modify L format float %.17g", f"run {steps}"]
 
 
+@pytest.mark.two_cores
 def test_net_1000_atoms_1_2_4_ranks(tmp_path):
     """1000 atoms, 3847 springs on 1, 2 and 4 ranks (4 oversubscribes a 2-core machine)."""
     res = {}
@@ -584,6 +588,7 @@ def periodic_deck(tmp, periodic, steps=4000):
                     "dump_modify A sort id format float %.17g", f"run {steps}"]
 
 
+@pytest.mark.two_cores
 def test_periodic_images_and_anchor(tmp_path):
     res = {}
     for periodic, np_ in ((False, 1), (True, 1), (True, 2)):
@@ -602,6 +607,7 @@ def test_periodic_images_and_anchor(tmp_path):
     assert moved > 4.0  # atoms crossed the periodic boundary
 
 
+@pytest.mark.two_cores
 @pytest.mark.parametrize("eqm", ["correct", "parmec"])
 def test_restart_equals_continuous(tmp_path, eqm):
     """'eqm parmec' (Q8 arm 2X - P) needs the reference centres, which the restart file carries."""
@@ -636,6 +642,7 @@ def offcentre_deck(tmp, steps=20000):
             "dump_modify L format float %.17g", f"run {steps}"]
 
 
+@pytest.mark.two_cores
 def test_off_centre_points_rotate_with_quaternions(tmp_path):
     """Follower spring: the forces at p and q are collinear with q - p, so total angular momentum
     (orbital + spin, J = 0.4 m r^2) is conserved to round-off; the energy (kinetic + k s^2/2) only

@@ -51,7 +51,9 @@ def per_loop(log):
     return tuple(int(v) for v in m.groups())
 
 
-@pytest.mark.parametrize("ranks,threads", [(1, 0), (2, 0), (1, 2)], ids=["1rank", "2ranks", "1rank_2threads"])
+@pytest.mark.parametrize("ranks,threads", [(1, 0), pytest.param(2, 0, marks=pytest.mark.two_cores),
+                                           pytest.param(1, 2, marks=pytest.mark.two_cores)],
+                         ids=["1rank", "2ranks", "1rank_2threads"])
 def test_kind_loops_equal_general_loop_bitwise(tmp_path, ranks, threads):
     n = spring_lattice.springs_file(tmp_path / "count.springs", KINDS, top, NX, NY, NZ)
     atoms_k, local_k, log_k = run(tmp_path, "kinds", "kinds", ranks, threads)

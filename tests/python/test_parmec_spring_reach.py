@@ -4,6 +4,8 @@ import math
 import os
 import re
 
+import pytest
+
 from dembridge.outputs import read_dump_by_id
 from dembridge.parmec import run_script
 from lmp_runs import run_lmp
@@ -76,6 +78,7 @@ def spring_lengths(frame):
     return {s: math.dist(frame[s - 1][:3], frame[s][:3]) for s in range(2, N + 1)}
 
 
+@pytest.mark.two_cores
 def test_chain_beyond_the_ghost_cutoff_1_2_4_ranks_and_restart(tmp_path):
     """The chain on 1, 2 and 4 ranks (x split into slabs: the halves' atoms change rank as they swing): every run
     reaches 2 s (before, each stopped with 'longer than the ghost cutoff' once a spring passed 1.5 m), the
@@ -130,6 +133,7 @@ def test_unspring_activate_model_runs_to_2s(tmp_path):
     assert 0.4 < H["PZ9"][-1] < 0.5
 
 
+@pytest.mark.two_cores
 def test_long_spring_and_torsion_at_setup_1_2_ranks(tmp_path):
     """A spring and a torsion spring between atoms 5 m apart with a ghost cutoff of 1 (before: an ERROR at the
     set-up, 'longer than the ghost cutoff' / 'farther than the ghost cutoff'): the set-up raises the cutoff to

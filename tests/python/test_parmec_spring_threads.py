@@ -8,6 +8,8 @@ import pytest
 
 import spring_lattice
 
+pytestmark = pytest.mark.two_cores  # OpenMP threads (2) in most tests
+
 NX, NY, NZ = 6, 7, 9
 STEPS = 300
 KINDS = ["K ratio 0.05", "KP ratio 0.05 friction 0.1 kskn 0.5 plane", "K ratio 0.05 unload U ylim -50 50"]

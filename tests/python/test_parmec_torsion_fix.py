@@ -291,7 +291,7 @@ def test_cone_closed_form(tmp_path, cone):
 # two bodies: relative rate, opposite torques (closed-form recurrence), angular momentum conserved
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 def test_two_bodies_relative_rate_and_opposite_torques(tmp_path, nprocs):
     """Body 1 spun about the roll axis x, body 2 at rest, linear table k: with 'start parmec' the relative
     roll follows a_m = a_(m-1) + h d_(m-1), d_m = d_(m-1) - 2 h k a_m / J (d = x.(w1 - w2)); the torques are
@@ -413,6 +413,7 @@ def by_id(rows):
     return {int(r[0]): r[1:] for r in rows}
 
 
+@pytest.mark.two_cores
 def test_grid_500_bodies_unspring_1_2_4_ranks_and_restart(tmp_path):
     steps = 600
     res = {}

@@ -30,7 +30,7 @@ def _run(workdir, load, nprocs):
     return thermo_rows(os.path.join(workdir, f"log.{load}")), open(os.path.join(workdir, f"dump.{load}")).read()
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 def test_builtin_wall_gran_unchanged_by_plugin(tmp_path, nprocs):
     if not os.path.isfile(dembridge.plugin_path()):
         pytest.skip("plugin not built")
@@ -48,7 +48,7 @@ def test_builtin_wall_gran_unchanged_by_plugin(tmp_path, nprocs):
 SETTLE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples", "settle", "in.settle")
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
 def test_settle_demo_floor_unchanged_by_plugin(tmp_path, nprocs):
     if not os.path.isfile(dembridge.plugin_path()):
         pytest.skip("plugin not built")

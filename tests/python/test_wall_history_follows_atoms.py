@@ -26,6 +26,8 @@ import dembridge
 from lmp_runs import run_lmp
 from dembridge import thermo_rows
 
+pytestmark = pytest.mark.two_cores  # 2-rank cases against a reference run that every test shares
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 PLATE = os.path.join(HERE, "..", "data", "liggghts-walls", "mesh_plate_diagonal", "plate.stl")
 

@@ -60,6 +60,7 @@ def _rel(a, b):
     return float(np.max(d / np.maximum(n, 1e-6 * n.max())))
 
 
+@pytest.mark.two_cores
 def test_ranks_agree(bed):
     for n in (1, 2, 4):
         _lmp(bed, nprocs=n, stage="full", out=f"full.np{n}")

@@ -150,6 +150,7 @@ def test_mesh_vertices_follow_the_modes_and_p_is_the_virtual_work_of_the_wall_fo
     assert worst_p <= 1e-12
 
 
+@pytest.mark.two_cores
 def test_two_ranks_send_the_same_generalized_forces_bit_for_bit(sockdir):  # noqa: F811
     runs = []
     for n in (1, 2):

@@ -69,6 +69,7 @@ def _same(wd, a, b):
     assert ca[0] == cb[0] and sorted(ca[1].splitlines()) == sorted(cb[1].splitlines()), f"wall contacts of {a} != {b}"
 
 
+@pytest.mark.two_cores
 def test_distributed_equals_replicated_on_1_2_4_ranks(wd):
     _lmp(wd, 1, "no", "full", "no1")
     walls = open(wd / "no1.walls").read().split("ITEM: ENTRIES")[1].splitlines()[1:]
@@ -88,6 +89,7 @@ def test_distributed_equals_replicated_on_1_2_4_ranks(wd):
     assert _split_line(wd / "log.no4", "cad") == ("all", 60, 60, 60)
 
 
+@pytest.mark.two_cores
 def test_restart_across_rank_counts(wd):
     _lmp(wd, 1, "no", "split", "split1")
     _lmp(wd, 2, "yes", "first", "first2")

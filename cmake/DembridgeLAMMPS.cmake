@@ -56,16 +56,10 @@ get_filename_component(_incparent "${LAMMPS_INCLUDE_DIR}" DIRECTORY)
 include(${CMAKE_CURRENT_LIST_DIR}/DembridgeLAMMPSVersion.cmake)
 include(${CMAKE_CURRENT_LIST_DIR}/DembridgeLAMMPSMPI.cmake)
 
-# Without Open MPI's C++ bindings, as LAMMPS builds itself: their static constructors call MPI when the plugin
-# is loaded, which aborted in an MPICH LAMMPS before the plugin's own check could name the mismatch.
-set(_defs "LAMMPS_SMALLBIG")
-if(DEMBRIDGE_MPI_FLAVOUR STREQUAL "OpenMPI")
-  list(APPEND _defs "OMPI_SKIP_MPICXX")
-endif()
 add_library(LAMMPS::lammps SHARED IMPORTED)
 set_target_properties(LAMMPS::lammps PROPERTIES
   IMPORTED_LOCATION "${LAMMPS_LIBRARY}" IMPORTED_SONAME "liblammps.so.0"
-  INTERFACE_COMPILE_DEFINITIONS "${_defs}"
+  INTERFACE_COMPILE_DEFINITIONS "LAMMPS_SMALLBIG"
   INTERFACE_INCLUDE_DIRECTORIES "${LAMMPS_INCLUDE_DIR};${_incparent}"
   INTERFACE_LINK_LIBRARIES "MPI::MPI_CXX")
 # Where tests find the binaries of this LAMMPS.

@@ -59,7 +59,18 @@ endif()
 if(_mpiexec_hint AND NOT MPIEXEC_EXECUTABLE)
   set(MPIEXEC_EXECUTABLE "${_mpiexec_hint}" CACHE FILEPATH "${DEMBRIDGE_MPI_FLAVOUR} mpiexec (the MPI liblammps.so links)")
 endif()
+# Open MPI without its C++ bindings (headers and libmpi_cxx), as LAMMPS builds itself: their static constructors
+# call MPI when the plugin is loaded, which aborted an MPICH LAMMPS before the plugin's own check could name the
+# mismatch. (Left as it is for MPICH, whose wheel ships no C++ bindings.)
+if(DEMBRIDGE_MPI_FLAVOUR STREQUAL "OpenMPI")
+  set(MPI_CXX_SKIP_MPICXX TRUE)
+endif()
 find_package(MPI COMPONENTS CXX)
+if(DEMBRIDGE_MPI_FLAVOUR STREQUAL "OpenMPI" AND TARGET MPI::MPI_CXX)  # FindMPI still lists libmpi_cxx
+  get_target_property(_mpi_libs MPI::MPI_CXX INTERFACE_LINK_LIBRARIES)
+  list(FILTER _mpi_libs EXCLUDE REGEX "libmpi_cxx")
+  set_target_properties(MPI::MPI_CXX PROPERTIES INTERFACE_LINK_LIBRARIES "${_mpi_libs}")
+endif()
 
 # The flavour of the MPI found, from its mpi.h.
 set(_found "none")

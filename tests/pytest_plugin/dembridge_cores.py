@@ -93,12 +93,15 @@ def pytest_runtest_makereport(item, call):
     wall0, cpu0 = item._dembridge_cores_start
     wall, cpu = time.monotonic() - wall0, cpu_seconds() - cpu0
     launches = sorted(set(_current.get("launches", [])))
-    if launches:
-        why = "started " + ", ".join(launches)
-    elif wall >= MIN_WALL and cpu > RATIO * wall:
-        why = f"kept {cpu / wall:.1f} cores busy ({cpu:.1f} s CPU in {wall:.1f} s)"
-    else:
+    if not launches:
+        if wall >= MIN_WALL and cpu > RATIO * wall:
+            # a warning, not a failure: children's CPU is counted when they are reaped, so a process a fixture
+            # started earlier can land on this test; only the launches above are certain
+            item.warn(pytest.PytestWarning(
+                f"{item.nodeid} kept {cpu / wall:.1f} cores busy ({cpu:.1f} s CPU in {wall:.1f} s) in a ctest entry "
+                f"declared one core: if it computes on two cores at once, mark it @pytest.mark.{MARK}"))
         return
+    why = "started " + ", ".join(launches)
     rep.outcome = "failed"
     rep.longrepr = (f"{item.nodeid} {why} in a ctest entry declared one core: mark it @pytest.mark.{MARK} so that "
                     "it runs in the file's PROCESSORS 2 entry (tests/pytest_plugin/dembridge_cores.py)")

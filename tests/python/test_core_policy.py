@@ -1,6 +1,7 @@
 """The ctest entries' core policy (tests/pytest_plugin/dembridge_cores.py, `-p dembridge_cores`): under an entry
 declared one core (DEMBRIDGE_CTEST_CORES=1) a test that is not marked two_cores and starts a program on two cores
-(mpiexec -n 2+, OMP_NUM_THREADS or -pk omp above 1) or keeps more than one core busy fails and says to mark it;
+(mpiexec -n 2+, OMP_NUM_THREADS or -pk omp above 1) fails and says to mark it, one that keeps more than one core
+busy gets a warning saying so;
 a marked test, a one-core test and any test outside such an entry stay what they are."""
 import os
 import subprocess
@@ -72,10 +73,10 @@ def test_unmarked_two_core_tests_fail_in_a_one_core_entry(tmp_path):
     assert outcomes(out) == {"test_mpiexec_unmarked": "FAILED", "test_threads_unmarked": "FAILED",
                              "test_threads_caught_by_the_test": "FAILED", "test_threads_marked": "PASSED",
                              "test_ranks_case[1]": "PASSED", "test_ranks_case[2]": "PASSED",
-                             "test_busy_unmarked": "FAILED", "test_one_core": "PASSED"}, out
+                             "test_busy_unmarked": "PASSED", "test_one_core": "PASSED"}, out
     assert ("starts mpiexec -n 2 in a ctest entry declared one core: mark it @pytest.mark." + "two_cores") in out, out
     assert "test_threads_caught_by_the_test started OMP_NUM_THREADS=2 in a ctest entry declared one core" in out, out
-    assert "test_busy_unmarked kept " in out and " cores busy (" in out, out
+    assert "test_busy_unmarked kept " in out and " cores busy (" in out, out  # a warning, not a failure
 
 
 def test_outside_a_one_core_entry_nothing_changes(tmp_path):

@@ -45,6 +45,20 @@ template <class Body> static void for_each_part(int nparts, Body &&body)
 #endif
 }
 
+// Sizes v for n elements whose old values are not read again. A vector that must grow is released first
+// (resize would copy the old values into a new block while the old one still exists: both at once at the
+// memory peak), then given 1/16 more than n, so that a list growing by a few entries per rebuild or an atom
+// arriving by exchange rarely reallocates (the extra is never written, so it is not resident); a block more
+// than twice what is needed is released too. The elements of the result are unspecified.
+template <class T> static void resize_discarding(std::vector<T> &v, std::size_t n, std::size_t slack)
+{
+  if (n > v.capacity() || v.capacity() > 2 * n + slack) {
+    std::vector<T>().swap(v);
+    v.reserve(n + n / 16);
+  }
+  v.resize(n);
+}
+
 // NVALUES 0 is a placeholder: the pair style reserves its place in the fix order when pair_style
 // is read (fixes run in definition order, and the history must be converted before a later
 // fix pour inserts atoms) and replaces it, in place, by the real fix at init.
@@ -120,18 +134,19 @@ void FixContactHistory::atoms_from_list()
   const tagint *tag = atom->tag;
   const int nold = list_nlocal_;
 
-  std::vector<int> now(nold);
-  const bool unchanged = nlocal == nold && std::equal(tag, tag + nlocal, list_tag_.begin());
-  if (unchanged) {
-    for (int i = 0; i < nold; i++) now[i] = i;
-  } else {
+  // where the list's atom i is now (-1: deleted); no table when nothing changed (the usual case)
+  std::vector<int> moved;
+  if (nlocal != nold || !std::equal(tag, tag + nlocal, list_tag_.begin())) {
+    moved.resize(nold);
     std::unordered_map<tagint, int> where(2 * std::size_t(nlocal));
     for (int i = 0; i < nlocal; i++) where.emplace(tag[i], i);
     for (int i = 0; i < nold; i++) {
       auto it = where.find(list_tag_[i]);
-      now[i] = it == where.end() ? -1 : it->second;  // -1: deleted
+      moved[i] = it == where.end() ? -1 : it->second;
     }
   }
+  const int *now = moved.empty() ? nullptr : moved.data();
+  auto index_now = [now](int i) { return now ? now[i] : i; };
 
   // Two passes over the same traversal, count then fill (keeps each atom's partner order): each
   // touched slot (i, jj) gives i its spring and the owned partner j the mirrored one. With threads,
@@ -146,16 +161,18 @@ void FixContactHistory::atoms_from_list()
       for (int jj = 0; jj < numneigh[i]; jj++) {
         if (touched(i, jj) == gran::TouchFlag::Separated) continue;
         const int j = jlist[jj] & NEIGHMASK;
-        if (now[i] >= 0) visit(now[i], list_tag_[j], slot(i, jj), 1.0);
-        if (j < nold && now[j] >= 0) visit(now[j], list_tag_[i], slot(i, jj), -1.0);
+        const int a = index_now(i);
+        if (a >= 0) visit(a, list_tag_[j], slot(i, jj), 1.0);
+        if (j < nold && index_now(j) >= 0) visit(index_now(j), list_tag_[i], slot(i, jj), -1.0);
       }
     }
   };
   const int nparts = std::min(conversion_threads(lmp), std::max(1, inum));
   auto rows = [&](int t) { return int(std::int64_t(inum) * t / nparts); };
-  std::vector<std::size_t> next(std::size_t(nparts) * std::size_t(nlocal), 0);  // part t's count, then fill position, per atom
+  // part t's count per atom, then the atom's fill position relative to its run
+  std::vector<int> next(std::size_t(nparts) * std::size_t(nlocal), 0);
   for_each_part(nparts, [&](int t) {
-    std::size_t *n = next.data() + std::size_t(t) * nlocal;
+    int *n = next.data() + std::size_t(t) * nlocal;
     for_each_contact(rows(t), rows(t + 1), [&](int a, tagint, const double *, double) { n[a]++; });
   });
   std::size_t total = 0;
@@ -163,29 +180,24 @@ void FixContactHistory::atoms_from_list()
   for (int a = 0; a < nlocal; a++) {
     partners_.offset[a] = total;
     partners_.own_tag[a] = tag[a];
-    std::size_t count = 0;
+    int count = 0;
     for (int t = 0; t < nparts; t++) {
-      std::size_t &n = next[std::size_t(t) * nlocal + a];
-      const std::size_t part_count = n;
-      n = total + count;
+      int &n = next[std::size_t(t) * nlocal + a];
+      const int part_count = n;
+      n = count;
       count += part_count;
     }
-    partners_.npartner[a] = int(count);
-    total += count;
-    most = std::max(most, int(count));
+    partners_.npartner[a] = count;
+    total += std::size_t(count);
+    most = std::max(most, count);
   }
-  // The old runs are not read again (the list-order slots hold the history): reuse the pool's
-  // storage, released when it is more than twice what the contacts present need.
-  if (partners_.pool_tag.capacity() > 2 * total + 1024) {
-    std::vector<tagint>().swap(partners_.pool_tag);
-    std::vector<double>().swap(partners_.pool_val);
-  }
-  partners_.pool_tag.resize(total);
-  partners_.pool_val.resize(total * nv_);
+  // The old runs are not read again (the list-order slots hold the history).
+  resize_discarding(partners_.pool_tag, total, 1024);
+  resize_discarding(partners_.pool_val, total * nv_, 1024 * std::size_t(nv_));
   for_each_part(nparts, [&](int t) {
-    std::size_t *pos = next.data() + std::size_t(t) * nlocal;
+    int *pos = next.data() + std::size_t(t) * nlocal;
     for_each_contact(rows(t), rows(t + 1), [&](int a, tagint partner, const double *v, double sign) {
-      const std::size_t k = pos[a]++;
+      const std::size_t k = partners_.offset[a] + std::size_t(pos[a]++);
       partners_.pool_tag[k] = partner;
       for (int m = 0; m < nv_; m++) partners_.pool_val[k * nv_ + m] = sign * v[m];
     });
@@ -201,20 +213,19 @@ void FixContactHistory::list_from_atoms()
   const tagint *tag = atom->tag;
   const int *ilist = list_->ilist, *numneigh = list_->numneigh;
   std::size_t total = 0;
-  first_.assign(nlocal, 0);
+  resize_discarding(first_, nlocal, 1024);
+  std::fill(first_.begin(), first_.end(), 0);
   for (int ii = 0; ii < list_->inum; ii++) {
     const int i = ilist[ii];
     first_[i] = total;
     total += numneigh[i];
   }
-  // release the storage of a denser past (assign never shrinks a vector)
-  if (values_.capacity() > 2 * total * nv_ + 4096) std::vector<double>().swap(values_);
-  if (touch_.capacity() > 2 * total + 4096) std::vector<gran::TouchFlag>().swap(touch_);
-  // every slot belongs to one row, which clears it: rows are independent, shared by the threads
-  values_.resize(total * nv_);
+  // The old slots were copied to the per-atom lists at pre_exchange. Every slot belongs to one row,
+  // which clears it: rows are independent, shared by the threads.
+  resize_discarding(values_, total * nv_, 4096);
   // kTouchPadding flags more than the slots: the AVX2 overlap scan reads four flags at once, also at
   // an atom's last one to three neighbours (pair_gran_scan.h), and ignores what lies past the list
-  touch_.resize(total + gran::kTouchPadding);
+  resize_discarding(touch_, total + gran::kTouchPadding, 4096);
   slots_ = total;
   const int inum = list_->inum;
   [[maybe_unused]] const int nthreads = conversion_threads(lmp);  // used by the OpenMP pragma only
@@ -238,7 +249,8 @@ void FixContactHistory::list_from_atoms()
       }
     }
   }
-  list_tag_.assign(tag, tag + nall);
+  resize_discarding(list_tag_, nall, 1024);
+  std::copy(tag, tag + nall, list_tag_.begin());
   list_nlocal_ = nlocal;
 }
 
@@ -334,22 +346,45 @@ void FixContactHistory::restart_mismatch(int i)
   partners_.own_tag[i] = atom->tag[i];
 }
 
-double FixContactHistory::memory_usage()
+// Entries a conversion of the current list-order slots gives the per-atom lists: each touched slot
+// gives one to its atom and one to its partner when the partner is owned.
+std::size_t FixContactHistory::list_entries() const
 {
-  return double(values_.capacity()) * sizeof(double) + touch_.capacity() + first_.capacity() * sizeof(std::size_t) +
-      list_tag_.capacity() * sizeof(tagint) + partners_.pool_val.capacity() * sizeof(double) + partners_.pool_tag.capacity() * sizeof(tagint) +
-      partners_.npartner.capacity() * sizeof(int) + partners_.offset.capacity() * sizeof(std::size_t) + partners_.own_tag.capacity() * sizeof(tagint);
+  std::size_t n = 0;
+  for (int ii = 0; ii < list_->inum; ii++) {
+    const int i = list_->ilist[ii];
+    const int *jlist = list_->firstneigh[i];
+    for (int jj = 0; jj < list_->numneigh[i]; jj++)
+      if (touch_[first_[i] + jj] != gran::TouchFlag::Separated) n += 1 + ((jlist[jj] & NEIGHMASK) < list_nlocal_);
+  }
+  return n;
 }
 
-// [1] bytes held, [2] contacts stored (each is kept by both atoms), [3] list-order slots,
-// [4] bytes of the contact storage alone (pool and list-order slots, without the per-atom index
-// arrays, which follow the atom count); all ranks.
+// Bytes in use (the spare capacity resize_discarding leaves is never written, so it is not resident):
+// the list-order slots and, for `entries` entries, the per-atom lists.
+double FixContactHistory::contact_bytes(std::size_t entries) const
+{
+  return double(values_.size()) * sizeof(double) + double(touch_.size()) + double(entries) * (sizeof(tagint) + nv_ * sizeof(double));
+}
+
+// LAMMPS's memory line: the contact storage with the per-atom lists as large as the contacts present
+// need (they are rebuilt from the list-order slots at every re-neighbouring, the first time at the
+// first one after the line is printed), and the per-atom index.
+double FixContactHistory::memory_usage()
+{
+  const std::size_t entries = std::max(partners_.pool_tag.size(), list_valid_ ? list_entries() : 0);
+  return contact_bytes(entries) + double(first_.size()) * sizeof(std::size_t) + double(list_tag_.size()) * sizeof(tagint) +
+      double(partners_.npartner.size()) * sizeof(int) + double(partners_.offset.size()) * sizeof(std::size_t) +
+      double(partners_.own_tag.size()) * sizeof(tagint);
+}
+
+// [1] bytes in use (memory_usage), [2] contacts stored (each is kept by both atoms), [3] list-order
+// slots, [4] bytes of the contact storage alone (per-atom lists and list-order slots, without the
+// per-atom index arrays, which follow the atom count); all ranks.
 double FixContactHistory::compute_vector(int n)
 {
   sync_atoms();
-  const double contact_bytes = double(values_.capacity()) * sizeof(double) + touch_.capacity() +
-      partners_.pool_val.capacity() * sizeof(double) + partners_.pool_tag.capacity() * sizeof(tagint);
-  double local[4] = {memory_usage(), 0.5 * double(live_entries()), double(slots_), contact_bytes};
+  double local[4] = {memory_usage(), 0.5 * double(live_entries()), double(slots_), contact_bytes(partners_.pool_tag.size())};
   MPI_Allreduce(local, stats_, 4, MPI_DOUBLE, MPI_SUM, world);
   return stats_[n];
 }

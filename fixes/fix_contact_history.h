@@ -12,10 +12,11 @@
 // Memory: the per-atom lists are one packed pool (PartnerLists; the LAMMPS per-atom callbacks that move
 // them are PerAtomCallbacksFix's) rebuilt at every conversion, so it is sized by
 // the contacts present (no per-atom stride set by the busiest atom); the list-order arrays shrink
-// when the neighbour list does.
+// when the neighbour list does. An array whose old values are dead is released before it grows (never
+// old and new copies at once: at 10^6 atoms in 12 contacts each that copy was 150 B per atom of peak RSS).
 //
 // Created and owned by a pair style (one per history-carrying sub-style of pair hybrid); users
-// never define it. Global vector for tests and benchmarks (sums over ranks): [1] bytes held,
+// never define it. Global vector for tests and benchmarks (sums over ranks): [1] bytes in use,
 // [2] contacts stored, [3] list-order slots, [4] bytes of the contact storage alone.
 #pragma once
 
@@ -96,6 +97,8 @@ class FixContactHistory : public state::PerAtomCallbacksFix {
   void compact_pool();
   void set_maxexchange(int most_partners);
   std::size_t live_entries() const;
+  std::size_t list_entries() const;
+  double contact_bytes(std::size_t entries) const;
 };
 
 }  // namespace dembridge

@@ -5,6 +5,7 @@
 #include "fix_contact_history.h"
 #include "fix_property_global.h"
 #include "style_registry.h"
+#include "container_bytes.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -389,6 +390,11 @@ void PairGran::degenerate_contact(int i, int j, bool coincident)
                                       "normal is undefined; remove or move one of them (e.g. delete_atoms overlap)");
   fail_on_this_rank(lmp, FLERR, p + fmt::format(" have no finite effective mass (masses {} and {}); give them a positive mass", atom->rmass[i],
                                                 atom->rmass[j]));
+}
+
+double PairGran::memory_usage()
+{
+  return Pair::memory_usage() + state::containers_bytes(mass_rigid_, maxrad_dynamic_, maxrad_frozen_);
 }
 
 void PairGran::update_rigid_masses()

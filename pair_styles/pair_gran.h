@@ -41,6 +41,7 @@ class PairGran : public LAMMPS_NS::Pair {
   void read_restart(FILE *fp) override;
   void write_restart_settings(FILE *fp) override;
   void read_restart_settings(FILE *fp) override;
+  double memory_usage() override;  // LAMMPS's per-atom energy/virial arrays and the rigid-body masses (the history is its fix's)
 
  protected:
   // The neighbour loop, written once (pair_gran_contacts.h): evaluates the contacts of the list atoms

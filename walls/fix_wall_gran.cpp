@@ -3,6 +3,7 @@
 
 #include "fix_property_global.h"
 #include "style_registry.h"
+#include "container_bytes.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -111,6 +112,11 @@ void FixWallGran::post_force(int /*vflag*/)
   find_rigid_masses();
   if (spec_.is_mesh) mesh_pass(update_history);
   else primitive_pass(update_history);
+}
+
+double FixWallGran::memory_usage()
+{
+  return PerAtomRecordsFix::memory_usage() + state::containers_bytes(contact_rows_, kept_, meshes_);
 }
 
 // One contact: the law, then f_i/torque_i (the increment summed first, spec §2). fpw returns the

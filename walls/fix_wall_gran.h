@@ -40,6 +40,7 @@ class FixWallGran : public state::PerAtomRecordsFix {
   void init() override;
   void setup(int vflag) override;
   void post_force(int vflag) override;
+  double memory_usage() override;  // the contact records (PerAtomRecordsFix) and this pass's per-slot flags
 
   // compute wall/gran/local
   void request_records() { record_ = true; }

@@ -7,6 +7,7 @@
 #include "serial_fix_note.h"
 #include "lammps_compat.h"
 #include "style_registry.h"
+#include "container_bytes.h"
 
 #include "math/quaternion.h"
 
@@ -405,6 +406,14 @@ void FixParmecSpring::restart(char *buf)
       error->all(FLERR, cmd_ + ": 'eqm parmec' needs the reference centres, which this (older) restart file "
                                "does not hold");
   });
+}
+
+double FixParmecSpring::memory_usage()
+{
+  return PerAtomStateFix::memory_usage() + where_.bytes() + incidence_.bytes() +
+      state::containers_bytes(names_, spring_ids_, defs_, parmec_rank_, unspring_unload_, id_index_, plan_, ghost_r_, hot_,
+                              first_, results_, failure_text_, inc_key_, inc_atom1_, inc_atom2_, torque_free_, centre_r_,
+                              plane_r_, other_r_, all_r_, atom_rot_, crit_table_);
 }
 
 static RegisterStyle reg_fix_parmec_spring("fix", "parmec/spring",

@@ -55,6 +55,7 @@ class FixParmecSpring : public state::PerAtomStateFix {
   // CRITICAL lists: row r < spring_count(): spring r (definition order), row spring_count() + t - 1: atom
   // with tag t; columns h, omega, xi (h = DBL_MAX for an atom without springs)
   double compute_array(int i, int j) override;
+  double memory_usage() override;  // the records (PerAtomStateFix) and the per-spring plan, states and results
 
   // Slot of one spring in its part1 atom's list: spring index, SpringState (20), last committed force
   // on part1 (3), flag "force valid" (1).

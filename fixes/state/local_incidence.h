@@ -25,6 +25,11 @@ class LocalIncidence {
 
   const Term *begin(int i) const { return terms_.data() + offset_[i]; }
   const Term *end(int i) const { return terms_.data() + offset_[i + 1]; }
+  double bytes() const
+  {
+    return double(keys_.capacity() + atom1_.capacity() + atom2_.capacity() + offset_.capacity()) * sizeof(int) +
+        double(terms_.capacity()) * sizeof(Term);
+  }
 
  private:
   int nlocal_ = -1;

@@ -83,8 +83,9 @@ long RecordLists::total(int n) const
 
 double RecordLists::bytes(int n) const
 {
-  double b = 0.0;
-  for (int i = 0; i < n; i++) b += lists_[i].capacity() * sizeof(double);
+  double b = double(lists_.capacity()) * sizeof(lists_[0]);  // every atom slot's (empty or not) list object
+  for (int i = 0; i < n; i++)
+    if (lists_[i].capacity()) b += lists_[i].capacity() * sizeof(double) + kChunkHeader;
   return b;
 }
 

@@ -45,8 +45,9 @@ class RecordLists final : public AtomLists {
 
   // Sum of count(i) over atoms 0..n-1.
   long total(int n) const;
-  // Bytes held by atoms 0..n-1.
+  // Bytes held by atoms 0..n-1 (records and each list's allocation header) and by the list objects.
   double bytes(int n) const;
+  static constexpr double kChunkHeader = 16;  // what malloc adds to each block, on average
 
   // Incremented whenever records move between atoms or appear/disappear: index caches compare it.
   unsigned long generation() const { return generation_; }
@@ -62,6 +63,7 @@ class RecordIndex {
  public:
   // (-1, -1) when no local atom holds a record of this key (keys must lie in 0..nkeys-1).
   std::pair<int, int> find(const RecordLists &lists, int n, int nkeys, int key);
+  double bytes() const { return double(where_.capacity()) * sizeof(where_[0]); }
 
  private:
   std::vector<std::pair<int, int>> where_;

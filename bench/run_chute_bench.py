@@ -157,8 +157,8 @@ def run(cmd, stdout_path, env=None, timeout=1800):
 CLK_TCK = os.sysconf("SC_CLK_TCK")
 
 
-def tree_cpu(root):
-    """utime + stime (s) of root and all its living descendants, from /proc."""
+def descendants(root):
+    """root and all its living descendants (pids), from /proc; with each one's utime + stime (s)."""
     children, cpu = {}, {}
     for d in os.listdir("/proc"):
         if not d.isdigit():
@@ -171,24 +171,32 @@ def tree_cpu(root):
         f = st[st.rindex(")") + 2:].split()  # fields after the command name; f[1] = ppid, f[11:13] = utime, stime
         children.setdefault(int(f[1]), []).append(int(d))
         cpu[int(d)] = (int(f[11]) + int(f[12])) / CLK_TCK
-    total, todo = 0.0, [root]
+    found, todo = {}, [root]
     while todo:
         q = todo.pop()
-        total += cpu.get(q, 0.0)
+        found[q] = cpu.get(q, 0.0)
         todo += children.get(q, [])
-    return total
+    return found
 
 
-def run_timed(cmd, stdout_path, env=None, timeout=1800):
+def tree_cpu(root):
+    """utime + stime (s) of root and all its living descendants, from /proc."""
+    return sum(descendants(root).values())
+
+
+def run_timed(cmd, stdout_path, env=None, timeout=1800, monitor=None):
     """Run cmd; besides elapsed and total CPU, the CPU seconds of all its processes between the thermo
     header (end of setup) and the 'Loop time' line, i.e. of the MD loop. Unlike Loop time, this hardly
-    changes when other jobs share the cores (time-slicing), though cache sharing still shows."""
+    changes when other jobs share the cores (time-slicing), though cache sharing still shows.
+    monitor (optional): an object whose start(pid) is called once the process runs and stop() once it ended."""
     t0 = time.time()
     ru0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     c_start = c_end = math.nan
     with open(stdout_path, "w") as fh:
         p = subprocess.Popen(cmd, cwd=HERE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1,
                              errors="replace", env=env)
+        if monitor:
+            monitor.start(p.pid)
         try:
             for line in p.stdout:
                 if math.isnan(c_start) and re.match(r"^\s*Step\s", line):
@@ -202,6 +210,9 @@ def run_timed(cmd, stdout_path, env=None, timeout=1800):
         except BaseException:
             p.kill()
             raise
+        finally:
+            if monitor:
+                monitor.stop()
     ru1 = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (ru1.ru_utime - ru0.ru_utime) + (ru1.ru_stime - ru0.ru_stime)
     return p.returncode, time.time() - t0, cpu, c_end - c_start

@@ -68,8 +68,10 @@ endif()
 find_package(MPI COMPONENTS CXX)
 if(DEMBRIDGE_MPI_FLAVOUR STREQUAL "OpenMPI" AND TARGET MPI::MPI_CXX)  # FindMPI still lists libmpi_cxx
   get_target_property(_mpi_libs MPI::MPI_CXX INTERFACE_LINK_LIBRARIES)
-  list(FILTER _mpi_libs EXCLUDE REGEX "libmpi_cxx")
-  set_target_properties(MPI::MPI_CXX PROPERTIES INTERFACE_LINK_LIBRARIES "${_mpi_libs}")
+  if(_mpi_libs)
+    list(FILTER _mpi_libs EXCLUDE REGEX "libmpi_cxx")
+    set_target_properties(MPI::MPI_CXX PROPERTIES INTERFACE_LINK_LIBRARIES "${_mpi_libs}")
+  endif()
 endif()
 
 # The flavour of the MPI found, from its mpi.h.

@@ -52,6 +52,7 @@ inline Vec3 rotate_fused(const double *L, const Vec3 &v)
 
 // On plain arrays; R: double, or the contact law's Lanes4 (pair_styles/contact/lane_math.h).
 template <class R> [[gnu::always_inline]] inline R dot3(const R *a, const R *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline double norm3(const double *a) { return std::sqrt(dot3(a, a)); }
 template <class R> [[gnu::always_inline]] inline void cross3(const R *a, const R *b, R *c)
 {
   c[0] = a[1] * b[2] - a[2] * b[1];

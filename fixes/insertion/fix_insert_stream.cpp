@@ -11,6 +11,7 @@
 #include "fix_mesh_surface.h"
 #include "fix_particle_distribution.h"
 #include "insertion_atoms.h"
+#include "math/vec3.h"
 
 #include <algorithm>
 #include <array>
@@ -26,10 +27,10 @@ namespace dembridge {
 namespace {
 constexpr int kFaceSeed = 179424799;  // LIGGGHTS: the insertion mesh's own stream, no rank offset
 constexpr double kTiny = 1e-14;       // LIGGGHTS's FIX_INSERT_STREAM_TINY (round-off of the step counts)
-
-double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-double mag3(const double *a) { return std::sqrt(dot3(a, a)); }
 }  // namespace
+
+using math::dot3;
+using math::norm3;
 
 std::string FixInsertStream::prefix() const { return std::string("Fix ") + style + " (id " + id + "): "; }
 
@@ -106,11 +107,11 @@ void FixInsertStream::check_face()
     for (int k = 0; k < 3; ++k) n[k] *= -1.;
   const double vn = dot3(k_.vel.v, n);
   for (int k = 0; k < 3; ++k) v_normal_[k] = n[k] * vn;
-  if (mag3(v_normal_) < 1.e-3)
+  if (norm3(v_normal_) < 1.e-3)
     error->all(FLERR, prefix() + "insertion velocity projected on face normal is < 1e-3 (vel " +
                           std::to_string(k_.vel.v[0]) + " " + std::to_string(k_.vel.v[1]) + " " +
                           std::to_string(k_.vel.v[2]) + ")");
-  if (mag3(k_.vel.v) < 1e-5) error->all(FLERR, prefix() + "insertion velocity too low");
+  if (norm3(k_.vel.v) < 1e-5) error->all(FLERR, prefix() + "insertion velocity too low");
   for (int k = 0; k < 3; ++k) p_ref_[k] = m.node(0, 0)[k];
 }
 
@@ -139,7 +140,7 @@ void FixInsertStream::init()
 void FixInsertStream::compute_insertion_properties()
 {
   const double dt = update->dt;
-  const double vn = mag3(v_normal_);
+  const double vn = norm3(v_normal_);
   const double rmax = dist_->distribution().max_radius();
   const auto &d = dist_->distribution();
   double &L = settings_.extrude_length;
@@ -293,7 +294,7 @@ void FixInsertStream::pre_exchange()
   create_spheres(lmp, spheres);
   // LIGGGHTS's finalize_insertion: release when the centre reaches the face
   const int step = static_cast<int>(update->ntimestep);
-  const double vn_dt = mag3(v_normal_) * update->dt;
+  const double vn_dt = norm3(v_normal_) * update->dt;
   size_t next = 0;
   for (int i = nlocal_before; i < atom->nlocal; ++i) {
     double rel[3];

@@ -2,6 +2,7 @@
 
 #include "fix_mesh_surface.h"
 #include "fix_property_atom_liggghts.h"
+#include "math/vec3.h"
 #include "mesh_args.h"
 #include "style_registry.h"
 
@@ -19,8 +20,9 @@ using namespace FixConst;
 
 namespace dembridge {
 
+using math::dot3;
+
 namespace {
-double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 // LIGGGHTS's planarity of a face: every triangle parallel to the first (the mesh's coplanarity limit).
 bool is_planar(const mesh::TriangleMesh &m)

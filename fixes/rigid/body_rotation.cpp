@@ -1,6 +1,6 @@
 #include "body_rotation.h"
 
-#include "equivalent_mass.h"
+#include "math/inertia.h"
 
 #include <array>
 #include <cmath>
@@ -67,10 +67,10 @@ Vec3 tmul_fused(const Mat3 &A, const Vec3 &b)  // Aᵀ b
   for (int i = 0; i < 3; i++) r[i] = row_fused(A(0, i), A(1, i), A(2, i), b[0], b[1], b[2]);
   return r;
 }
-Vec3 cross_fused(const Vec3 &a, const Vec3 &b)
+Vec3 cross_fused(const Vec3 &a, const Vec3 &b)  // math::cross_fused on Eigen vectors
 {
-  return Vec3(std::fma(a[1], b[2], -(a[2] * b[1])), std::fma(a[2], b[0], -(a[0] * b[2])),
-              std::fma(a[0], b[1], -(a[1] * b[0])));
+  const math::Vec3 c = math::cross_fused({a[0], a[1], a[2]}, {b[0], b[1], b[2]});
+  return Vec3(c[0], c[1], c[2]);
 }
 }  // namespace
 
@@ -138,20 +138,19 @@ Mat3 expmap(const Vec3 &theta, bool q3_typo, bool float_taylor)
   return L;
 }
 
-Mat3 inertia_from_list(const double *s)
+Mat3 to_mat3(const math::Mat9 &m)
 {
-  Mat3 J;
-  J << s[0], s[3], s[4], s[3], s[1], s[5], s[4], s[5], s[2];
-  return J;
+  return Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(m.data());
 }
 
-Mat3 parmec_inverse(const Mat3 &F)
+math::Mat9 to_mat9(const Mat3 &m)
 {
-  std::array<double, 9> rows;
-  Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(rows.data()) = F;
-  const std::array<double, 9> inv = springs::parmec_inverse(rows);
-  return Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(inv.data());
+  math::Mat9 rows;
+  Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(rows.data()) = m;
+  return rows;
 }
+
+Mat3 parmec_inverse(const Mat3 &F) { return to_mat3(math::inverse_parmec(to_mat9(F))); }
 
 RotationStep rotation_step(const Mat3 &J, const Mat3 &Jinv, const Mat3 &L, const Vec3 &W, const Vec3 &torque,
                            double h, bool q3_typo, bool float_taylor)

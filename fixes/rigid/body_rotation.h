@@ -3,6 +3,8 @@
 // Quirk Q3 (Parmec's expmap uses Ω2·Ω3 where Ω1·Ω3 belongs) can be switched on to reproduce upstream runs.
 #pragma once
 
+#include "math/rotation.h"
+
 #include <Eigen/Dense>
 
 namespace dembridge::rigid {
@@ -25,11 +27,12 @@ Mat3 macro_mul_t(const Mat3 &A, const Mat3 &B);  // A Bᵀ
 Vec3 macro_mv(const Mat3 &A, const Vec3 &b);     // A b
 Vec3 macro_tmv(const Mat3 &A, const Vec3 &b);    // Aᵀ b
 
-// Symmetric inertia tensor from Parmec's list [Ixx, Iyy, Izz, Ixy, Ixz, Iyz].
-Mat3 inertia_from_list(const double *six);
+// The math layer's row-major matrices (math/inertia.h: the inertia tensors) as Eigen's, and back.
+Mat3 to_mat3(const math::Mat9 &m);
+math::Mat9 to_mat9(const Mat3 &m);
 
-// Inverse by cofactors in Parmec's operation order (springs::parmec_inverse, equivalent_mass.h; shared with
-// fix parmec/spring's EQM), so that J⁻¹ and everything integrated with it agree bitwise with Parmec's.
+// math::inverse_parmec (Parmec's cofactor order, shared with fix parmec/spring's EQM) on an Eigen matrix, so
+// that J⁻¹ and everything integrated with it agree bitwise with Parmec's.
 Mat3 parmec_inverse(const Mat3 &J);
 
 struct RotationStep {

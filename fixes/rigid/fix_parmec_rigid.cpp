@@ -3,6 +3,7 @@
 #include "rank_error.h"
 #include "definition_file.h"
 #include "state/table_registry.h"
+#include "math/inertia.h"
 #include "math/quaternion.h"
 
 #include "style_registry.h"
@@ -544,8 +545,7 @@ void FixParmecRigid::init()
 
 Mat3 FixParmecRigid::inertia(int i) const
 {
-  if (J_) return rigid::inertia_from_list(J_[i]);
-  return Mat3::Identity() * (0.4 * atom->rmass[i] * atom->radius[i] * atom->radius[i]);
+  return rigid::to_mat3(J_ ? math::inertia_from_list(J_[i]) : math::sphere_inertia(atom->rmass[i], atom->radius[i]));
 }
 
 void FixParmecRigid::setup_joints()
@@ -615,7 +615,7 @@ void FixParmecRigid::apply_joints(std::vector<Vec3> &F0, std::vector<Vec3> &T0, 
     const int b = int(r[0]);
     seen[b] = 1;
     rigid::BodyKinematics &B = bodies[b];
-    const Mat3 J = rigid::inertia_from_list(r + 2);
+    const Mat3 J = rigid::to_mat3(math::inertia_from_list(r + 2));
     B.L = load(r + 8);
     B.W = Vec3(r[17], r[18], r[19]);
     B.v = Vec3(r[20], r[21], r[22]);
@@ -687,9 +687,7 @@ void FixParmecRigid::check_inertia()
   tagint bad = MAXTAGINT;
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(atom->mask[i] & groupbit)) continue;
-    const Mat3 J = inertia(i);
-    const double m2 = J(0, 0) * J(1, 1) - J(0, 1) * J(1, 0);
-    if (!(J(0, 0) > 0.0 && m2 > 0.0 && J.determinant() > 0.0)) bad = std::min(bad, atom->tag[i]);
+    if (!math::positive_definite(rigid::to_mat9(inertia(i)))) bad = std::min(bad, atom->tag[i]);
   }
   tagint first = MAXTAGINT;
   MPI_Allreduce(&bad, &first, 1, MPI_LMP_TAGINT, MPI_MIN, world);

@@ -1,5 +1,6 @@
 #include "equivalent_mass.h"
 #include "critical_parmec_order.h"
+#include "math/inertia.h"
 
 #include <Eigen/Dense>
 #include <stdexcept>
@@ -63,20 +64,9 @@ BodyMass BodyMass::isotropic(double mass, double inertia, const Vec3& centre) {
 BodyMass BodyMass::from_inertia_list(double mass, const double* six, const Vec3& centre) {
   BodyMass b;
   b.mass = mass;
-  b.inv_inertia = parmec_inverse({six[0], six[3], six[4], six[3], six[1], six[5], six[4], six[5], six[2]});
+  b.inv_inertia = math::inverse_parmec(math::inertia_from_list(six));
   b.centre = centre;
   return b;
-}
-
-std::array<double, 9> parmec_inverse(const std::array<double, 9>& J) {
-  // Parmec's column-major names: f[0..2] is the first column
-  const double f0 = J[0], f1 = J[3], f2 = J[6], f3 = J[1], f4 = J[4], f5 = J[7], f6 = J[2], f7 = J[5], f8 = J[8];
-  const double det = f0 * (f4 * f8 - f5 * f7) + f3 * (f2 * f7 - f1 * f8) + (f1 * f5 - f2 * f4) * f6;
-  const double d = 1.0 / det;
-  // row-major out: I(r, c) = out[3 r + c]
-  return {(f4 * f8 - f5 * f7) * d, (f5 * f6 - f3 * f8) * d, (f3 * f7 - f4 * f6) * d,
-          (f2 * f7 - f1 * f8) * d, (f0 * f8 - f2 * f6) * d, (f1 * f6 - f0 * f7) * d,
-          (f1 * f5 - f2 * f4) * d, (f2 * f3 - f0 * f5) * d, (f0 * f4 - f1 * f3) * d};
 }
 
 std::array<double, 9> point_inverse_mass(const BodyMass& body, const Vec3& P, EqmArm arm) {

@@ -14,14 +14,9 @@ struct BodyMass {
   Vec3 centre{};                        // reference mass centre X
   static BodyMass isotropic(double mass, double inertia, const Vec3& centre);
   // A body with the inertia tensor J given as Parmec's list [Ixx, Iyy, Izz, Ixy, Ixz, Iyz], inverted as
-  // Parmec inverts it (parmec_inverse): the J⁻¹ of Parmec's eqm() for MESH and ANALYTICAL bodies.
+  // Parmec inverts it (math::inverse_parmec): the J⁻¹ of Parmec's eqm() for MESH and ANALYTICAL bodies.
   static BodyMass from_inertia_list(double mass, const double* six, const Vec3& centre);
 };
-
-// Inverse of a 3x3 matrix (row-major) by cofactors in Parmec's operation order (its INVERT macro:
-// determinant expanded along the first column, cofactors times 1/det), so that J⁻¹ agrees bitwise with the
-// inverse Parmec computes once per DEM call (fix parmec/rigid integrates with the same function).
-std::array<double, 9> parmec_inverse(const std::array<double, 9>& J);
 
 // Which arm the point contributes with. Correct: A = X - P. ParmecQ8: the arm Parmec's spring force
 // routine really uses for critical-ratio dashpots, A = X - (P - X) = 2X - P (quirk Q8, compatibility only).

@@ -6,6 +6,7 @@
 #include "critical_parmec_order.h"
 #include "critical_step.h"
 #include "equivalent_mass.h"
+#include "math/inertia.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -187,9 +188,7 @@ double FixParmecSpring::spring_eqm_general(const EvalContext &c, const SpringDef
       return sp::BodyMass::from_inertia_list(mass_of(j), c.inertia[j], q8_arm_ ? X : sp::Vec3{});
     sp::BodyMass b;
     b.mass = mass_of(j);
-    const double J = c.radius ? 0.4 * b.mass * c.radius[j] * c.radius[j] : 0.0;
-    const double inv = J > 0.0 ? 1.0 / J : 0.0;
-    b.inv_inertia = {inv, 0, 0, 0, inv, 0, 0, 0, inv};
+    b.inv_inertia = math::inverse_inertia(math::sphere_inertia(b.mass, c.radius ? c.radius[j] : 0.0));
     if (q8_arm_) b.centre = X;
     return b;
   };

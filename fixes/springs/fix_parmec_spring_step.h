@@ -4,6 +4,7 @@
 
 #include "fix_parmec_spring.h"
 #include "fix_parmec_spring_slot.h"
+#include "math/inertia.h"
 #include "spring_step.h"
 
 #include <cmath>
@@ -63,7 +64,7 @@ inline double FixParmecSpring::spring_eqm(const EvalContext &c, const SpringDef 
       const double m = mass_of(j);
       lambda += dd / m;
       if (centre) return;  // a centre point: the term below is exactly 0 (finite directions)
-      const double J = c.radius ? 0.4 * m * c.radius[j] * c.radius[j] : 0.0;
+      const double J = c.radius ? math::sphere_moment(m, c.radius[j]) : 0.0;
       if (J > 0.0) {
         const double ad = springs::dot(A, dir);
         lambda += (springs::dot(A, A) * dd - ad * ad) / J;

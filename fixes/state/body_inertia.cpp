@@ -1,6 +1,6 @@
 #include "body_inertia.h"
 
-#include "equivalent_mass.h"
+#include "math/inertia.h"
 
 #include "atom.h"
 #include "error.h"
@@ -20,26 +20,10 @@ double **BodyInertia::rows() const
 
 BodyInertia::Tensor BodyInertia::tensor(int i, double mass) const
 {
-  if (double **J = rows()) {
-    const double *r = J[i];
-    return {r[0], r[3], r[4], r[3], r[1], r[5], r[4], r[5], r[2]};
-  }
-  const double J = atom->radius_flag ? 0.4 * mass * atom->radius[i] * atom->radius[i] : 0.0;
-  return {J, 0, 0, 0, J, 0, 0, 0, J};
+  if (double **J = rows()) return math::inertia_from_list(J[i]);
+  return math::sphere_inertia(mass, atom->radius_flag ? atom->radius[i] : 0.0);
 }
 
-BodyInertia::Tensor BodyInertia::inverse(int i, double mass) const
-{
-  const Tensor J = tensor(i, mass);
-  Tensor inv{};
-  if (J[1] == 0.0 && J[2] == 0.0 && J[5] == 0.0) {  // principal axes (spheres): 1/J, no cofactor rounding
-    for (int c = 0; c < 3; c++) inv[4 * c] = J[4 * c] > 0.0 ? 1.0 / J[4 * c] : 0.0;
-    return inv;
-  }
-  const double det = J[0] * (J[4] * J[8] - J[5] * J[7]) - J[1] * (J[3] * J[8] - J[5] * J[6]) +
-                     J[2] * (J[3] * J[7] - J[4] * J[6]);
-  if (det > 0.0) inv = springs::parmec_inverse(J);
-  return inv;
-}
+BodyInertia::Tensor BodyInertia::inverse(int i, double mass) const { return math::inverse_inertia(tensor(i, mass)); }
 
 }  // namespace dembridge::state

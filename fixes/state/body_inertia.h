@@ -21,10 +21,10 @@ class BodyInertia : protected LAMMPS_NS::Pointers {
   // The property's per-atom rows (local and ghost), looked up at each use because Atom::sort and exchange
   // reallocate them; nullptr without a name. ERROR naming the fix if it is not a d2_ property of 6 columns.
   double **rows() const;
-  // J of atom i (mass: its mass; the sphere's needs radius, else 0).
+  // J of atom i (math/inertia.h; mass: its mass; the sphere's needs radius, else 0).
   Tensor tensor(int i, double mass) const;
-  // J⁻¹ of atom i: 1/J on a diagonal tensor, else Parmec's cofactor inverse (its INVERT, as Parmec's
-  // DEM call inverts it); zero where J is zero (an atom without inertia).
+  // J⁻¹ of atom i (math::inverse_inertia): 1/J on a diagonal tensor, else Parmec's cofactor inverse (its
+  // INVERT, as Parmec's DEM call inverts it); zero where J is zero (an atom without inertia).
   Tensor inverse(int i, double mass) const;
 
  private:

@@ -5,10 +5,12 @@
 #include <cmath>
 
 #include "body_rotation.h"
+#include "math/inertia.h"
 
 using namespace dembridge::rigid;
 
 namespace {
+Mat3 inertia_from_list(const double *six) { return to_mat3(dembridge::math::inertia_from_list(six)); }
 Mat3 rodrigues(const Vec3 &t) { return Eigen::AngleAxisd(t.norm(), t.normalized()).toRotationMatrix(); }
 }  // namespace
 

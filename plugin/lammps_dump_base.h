@@ -75,7 +75,7 @@ static_assert(sizeof(Dump) == 0x340, "Dump must have liblammps's size (22 Jul 20
 // modify_param()) and the field of the protected state each one sets, measured like the figures above: a
 // built-in dump's bytes before and after each keyword ('balance', set only on more than one rank, from the
 // disassembly). A style that writes its own frames reads them to refuse what it does not do
-// (fixes/mesh/dump_mesh.cpp); tests/lammps/test_dump_layout.cpp checks every offset. 'every', 'every/time'
+// (walls/mesh_commands/dump_mesh.cpp); tests/lammps/test_dump_layout.cpp checks every offset. 'every', 'every/time'
 // and 'first' set Output's state or a public member; 'colname', 'fileper' and 'nfile' fail by themselves
 // on a dump without columns or '%'.
 struct DumpModifyField {

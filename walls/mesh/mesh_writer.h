@@ -1,5 +1,5 @@
 // Mesh output for ParaView: legacy VTK polydata and ASCII STL, several meshes in one file. Used by
-// fix mesh/dump and by the dump styles mesh/stl and mesh/vtk (fixes/mesh/mesh_output.h).
+// fix mesh/dump and by the dump styles mesh/stl and mesh/vtk (walls/mesh_commands/mesh_output.h).
 //
 // VTK: one triangle per cell, 3 points per triangle (nodes are not shared, as in LIGGGHTS), then
 // the cell and point data chosen by VtkFields. The LIGGGHTS-named fields (dump mesh/vtk keywords)

@@ -1,5 +1,6 @@
 // fix mbdyn: see fix_mbdyn.h and doc/fix_mbdyn.md.
 #include "fix_mbdyn.h"
+#include "command_args.h"
 #include "lammps_compat.h"
 #include "fix_mbdyn_modal.h"
 
@@ -30,6 +31,7 @@
 #include <cstring>
 #include <exception>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 using namespace LAMMPS_NS;
@@ -56,28 +58,20 @@ bool parse_yes_no(const std::string &kw, const std::string &v, const std::string
   error->all(FLERR, prefix + "keyword '" + kw + "' expects yes or no, got '" + v + "'");
 }
 
-double parse_double(const std::string &kw, const std::string &v, const std::string &prefix, Error *error,
+double parse_double(LAMMPS *lmp, const std::string &kw, const std::string &v, const std::string &prefix,
                     const char *expected)
 {
-  try {
-    std::size_t used = 0;
-    const double d = std::stod(v, &used);
-    if (used == v.size() && std::isfinite(d)) return d;
-  } catch (const std::exception &) {
-  }
-  error->all(FLERR, prefix + "keyword '" + kw + "' expects " + expected + ", got '" + v + "'");
+  const std::optional<double> d = args::number(lmp, v);
+  if (!d) lmp->error->all(FLERR, prefix + "keyword '" + kw + "' expects " + expected + ", got '" + v + "'");
+  return *d;
 }
 
-long long parse_int(const std::string &kw, const std::string &v, const std::string &prefix, Error *error,
+long long parse_int(LAMMPS *lmp, const std::string &kw, const std::string &v, const std::string &prefix,
                     const char *expected, long long lo)
 {
-  try {
-    std::size_t used = 0;
-    const long long d = std::stoll(v, &used);
-    if (used == v.size() && d >= lo) return d;
-  } catch (const std::exception &) {
-  }
-  error->all(FLERR, prefix + "keyword '" + kw + "' expects " + expected + ", got '" + v + "'");
+  const std::optional<long long> d = args::integer(lmp, v);
+  if (!d || *d < lo) lmp->error->all(FLERR, prefix + "keyword '" + kw + "' expects " + expected + ", got '" + v + "'");
+  return *d;
 }
 
 std::string num(double v)
@@ -117,13 +111,13 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
       file_->in_path = value("MBDyn's input file IN (the loads) and output file OUT (the kinematics)");
       file_->out_path = value("MBDyn's output file OUT (the kinematics) after IN");
     } else if (kw == "sleep") {
-      file_sleep_ = parse_double(kw, value("seconds"), prefix, error, "seconds (> 0)");
+      file_sleep_ = parse_double(lmp, kw, value("seconds"), prefix, "seconds (> 0)");
       if (file_sleep_ <= 0) error->all(FLERR, prefix + "keyword 'sleep' expects seconds (> 0), got " + arg[i]);
     } else if (kw == "precision") {
-      file_precision_ = static_cast<int>(parse_int(kw, value("digits"), prefix, error, "digits (1 to 17)", 1));
+      file_precision_ = static_cast<int>(parse_int(lmp, kw, value("digits"), prefix, "digits (1 to 17)", 1));
       if (file_precision_ > 17) error->all(FLERR, prefix + "keyword 'precision' expects digits (1 to 17), got " + arg[i]);
     } else if (kw == "port") {
-      port = parse_int(kw, value("a TCP port number"), prefix, error, "a TCP port number (1-65535)", 1);
+      port = parse_int(lmp, kw, value("a TCP port number"), prefix, "a TCP port number (1-65535)", 1);
       if (port > 65535) error->all(FLERR, prefix + "keyword 'port' expects a TCP port number (1-65535), got " + std::to_string(port));
     } else if (kw == "host") {
       host = value("a host name or address");
@@ -170,7 +164,7 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
       if (what == "atom") {
         const std::string v = value("an atom ID");
         n.is_atom = true;
-        n.tag = static_cast<tagint>(parse_int(kw + " atom", v, prefix, error, "a positive atom ID", 1));
+        n.tag = static_cast<tagint>(parse_int(lmp, kw + " atom", v, prefix, "a positive atom ID", 1));
         n.text = "atom " + v;
       } else if (what == "group") {
         n.is_atom = false;
@@ -205,7 +199,7 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
       const std::string pk = value("'points M'");
       if (pk != "points")
         error->all(FLERR, prefix + "keyword 'mapping' expects 'mapping MESH-ID points M', got '" + pk + "' after the mesh ID");
-      const long long m = parse_int("mapping points", value("the number of mapped points"), prefix, error,
+      const long long m = parse_int(lmp, "mapping points", value("the number of mapped points"), prefix,
                                     "the number of MBDyn's mapped points (>= 3)", 3);
       deform_ = std::make_unique<MbdynDeformDriver>();
       for (long long j = 0; j < m; ++j) {
@@ -217,15 +211,15 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
         nodes_.push_back(n);
       }
     } else if (kw == "match_tolerance") {
-      match_tolerance_ = parse_double(kw, value("a distance"), prefix, error, "a distance (> 0)");
+      match_tolerance_ = parse_double(lmp, kw, value("a distance"), prefix, "a distance (> 0)");
       if (!(match_tolerance_ > 0))
         error->all(FLERR, prefix + "keyword 'match_tolerance' expects a distance (> 0), got " + arg[i]);
       match_tolerance_given_ = true;
     } else if (kw == "substeps") {
-      substeps_ = static_cast<int>(parse_int(kw, value("a positive integer"), prefix, error, "a positive integer", 1));
+      substeps_ = static_cast<int>(parse_int(lmp, kw, value("a positive integer"), prefix, "a positive integer", 1));
       substeps_given = true;
     } else if (kw == "mbdyn_dt") {
-      mbdyn_dt_ = parse_double(kw, value("MBDyn's time step"), prefix, error, "MBDyn's time step (> 0)");
+      mbdyn_dt_ = parse_double(lmp, kw, value("MBDyn's time step"), prefix, "MBDyn's time step (> 0)");
       if (mbdyn_dt_ <= 0) error->all(FLERR, prefix + "keyword 'mbdyn_dt' expects MBDyn's time step (> 0), got " + arg[i]);
     } else if (kw == "loads") {
       const std::string v = value("average or extrapolate");
@@ -242,14 +236,14 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
     } else if (kw == "gravity") {
       include_gravity_ = parse_yes_no(kw, value("yes or no"), prefix, error);
     } else if (kw == "connect_timeout") {
-      o.connect_timeout_s = parse_double(kw, value("seconds"), prefix, error, "seconds (< 0: wait forever)");
+      o.connect_timeout_s = parse_double(lmp, kw, value("seconds"), prefix, "seconds (< 0: wait forever)");
     } else if (kw == "io_timeout") {
-      o.io_timeout_s = parse_double(kw, value("seconds"), prefix, error, "seconds (< 0: wait forever)");
+      o.io_timeout_s = parse_double(lmp, kw, value("seconds"), prefix, "seconds (< 0: wait forever)");
     } else if (kw == "tolerance") {
-      tolerance_ = parse_double(kw, value("a tolerance"), prefix, error, "a tolerance >= 0");
+      tolerance_ = parse_double(lmp, kw, value("a tolerance"), prefix, "a tolerance >= 0");
       if (tolerance_ < 0) error->all(FLERR, prefix + "keyword 'tolerance' expects a tolerance >= 0, got " + arg[i]);
     } else if (kw == "max_iterations") {
-      max_iterations_ = static_cast<int>(parse_int(kw, value("a positive integer"), prefix, error, "a positive integer", 1));
+      max_iterations_ = static_cast<int>(parse_int(lmp, kw, value("a positive integer"), prefix, "a positive integer", 1));
     } else if (kw == "profile") {
       if (parse_yes_no(kw, value("yes or no"), prefix, error)) profile_.enable();
     } else {

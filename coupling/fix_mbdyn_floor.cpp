@@ -14,10 +14,13 @@
 #include "utils.h"
 
 #include "bare_exchange.h"
+#include "command_args.h"
 #include "exchange_profile.h"
 #include "style_registry.h"
 
+#include <climits>
 #include <memory>
+#include <optional>
 #include <string>
 
 using namespace LAMMPS_NS;
@@ -39,11 +42,13 @@ class FixMBDynFloor : public Fix {
       if (kw == "path") {
         place_.unix_path = v;
       } else if (kw == "port") {
-        place_.tcp_port = utils::inumeric(FLERR, v, false, lmp);
-        if (place_.tcp_port < 1 || place_.tcp_port > 65535)
+        const std::optional<long long> port = args::integer(lmp, v);
+        place_.tcp_port = port && *port >= 1 && *port <= 65535 ? int(*port) : -1;
+        if (place_.tcp_port < 1)
           error->all(FLERR, prefix + "keyword 'port' expects a TCP port number (1-65535), got " + v);
       } else if (kw == "nodes") {
-        nodes_ = utils::inumeric(FLERR, v, false, lmp);
+        const std::optional<long long> n = args::integer(lmp, v);
+        nodes_ = n && *n >= 1 && *n <= INT_MAX ? int(*n) : 0;
         if (nodes_ < 1) error->all(FLERR, prefix + "keyword 'nodes' expects a positive node count, got " + v);
       } else if (kw == "profile") {
         if (v != "yes" && v != "no") error->all(FLERR, prefix + "keyword 'profile' expects yes or no, got '" + v + "'");

@@ -2,6 +2,7 @@
 // broadcasts them; every rank places its carried atoms (x, v); after the forces, the atoms'
 // forces are summed per point over the ranks and rank 0 answers F, M, p.
 #include "fix_mbdyn_modal.h"
+#include "command_args.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -13,8 +14,10 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <climits>
 #include <cstring>
 #include <exception>
+#include <optional>
 
 #include "protocol_error.h"
 #include "socket_transport.h"
@@ -50,13 +53,26 @@ FixMBDynModal::FixMBDynModal(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
       if (i + 1 >= narg) error->all(FLERR, "fix mbdyn modal: expected {} after '{}'", what, k);
       return arg[++i];
     };
+    auto number_of = [&](const char *kw, const std::string &w, const char *expected) {
+      const std::optional<double> v = args::number(lmp, w);
+      if (!v) error->all(FLERR, "fix mbdyn modal: {}: expected {} (a finite number), got '{}'", kw, expected, w);
+      return *v;
+    };
     if (k == "modes") {
-      const int n = utils::inumeric(FLERR, value("the number of modes of the modal joint"), false, lmp);
-      if (n < 1) error->all(FLERR, "fix mbdyn modal: expected modes >= 1, got {}", n);
-      modes = n;
+      const std::string w = value("the number of modes of the modal joint");
+      const std::optional<long long> n = args::integer(lmp, w);
+      if (!n || *n > INT_MAX) error->all(FLERR, "fix mbdyn modal: modes: expected an integer >= 1, got '{}'", w);
+      if (*n < 1) error->all(FLERR, "fix mbdyn modal: expected modes >= 1, got {}", *n);
+      modes = std::size_t(*n);
       if (i + 1 < narg && strcmp(arg[i + 1], "list") == 0) {
         ++i;
-        for (int m = 0; m < n; ++m) list.push_back(utils::inumeric(FLERR, value("a mode number"), false, lmp));
+        for (long long m = 0; m < *n; ++m) {
+          const std::string mode = value("a mode number");
+          const std::optional<long long> v = args::integer(lmp, mode);
+          if (!v || *v > INT_MAX || *v < INT_MIN)
+            error->all(FLERR, "fix mbdyn modal: modes list: expected a mode number (an integer), got '{}'", mode);
+          list.push_back(int(*v));
+        }
       }
     } else if (k == "origin") {
       origin_ = value("a FEM node label");
@@ -67,7 +83,7 @@ FixMBDynModal::FixMBDynModal(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
         error->all(FLERR, "fix mbdyn modal: {}", e.what());
       }
     } else if (k == "match") {
-      match_ = utils::numeric(FLERR, value("a distance"), false, lmp);
+      match_ = number_of("match", value("a distance"), "a distance >= 0");
       if (!(match_ >= 0)) error->all(FLERR, "fix mbdyn modal: expected match >= 0, got {}", match_);
     } else if (k == "mesh") {
       mesh_id_ = value("the ID of a fix mesh/surface/stress");
@@ -76,9 +92,9 @@ FixMBDynModal::FixMBDynModal(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
       if (c != "loose")
         error->all(FLERR, "fix mbdyn modal: expected coupling loose (tight is not supported with modal yet), got '{}'", c);
     } else if (k == "connect_timeout") {
-      connect_timeout_ = utils::numeric(FLERR, value("seconds"), false, lmp);
+      connect_timeout_ = number_of("connect_timeout", value("seconds"), "seconds");
     } else if (k == "io_timeout") {
-      io_timeout_ = utils::numeric(FLERR, value("seconds"), false, lmp);
+      io_timeout_ = number_of("io_timeout", value("seconds"), "seconds");
     } else {
       error->all(FLERR, "fix mbdyn modal: unknown keyword '{}', expected {}", k, kUsage);
     }

@@ -2,12 +2,50 @@
 
 #include "error.h"
 #include "input.h"
+#include "utils.h"
 #include "variable.h"
 
+#include <climits>
 #include <cmath>
 #include <cstdlib>
 
 namespace dembridge {
+
+namespace args {
+
+bool is_number(const std::string &word) { return LAMMPS_NS::utils::is_double(word); }
+
+std::optional<double> number(LAMMPS_NS::LAMMPS *lmp, const std::string &word)
+{
+  if (!LAMMPS_NS::utils::is_double(word)) return std::nullopt;
+  const double v = LAMMPS_NS::utils::numeric(FLERR, word, false, lmp);
+  if (!std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+std::optional<long long> integer(LAMMPS_NS::LAMMPS *lmp, const std::string &word)
+{
+  if (!LAMMPS_NS::utils::is_integer(word)) return std::nullopt;
+  const std::string digits = word.substr(word[0] == '+' || word[0] == '-' ? 1 : 0);
+  if (digits.size() > 18 && digits.find_first_not_of('0') < digits.size() - 18) return std::nullopt;  // beyond bigint
+  return static_cast<long long>(LAMMPS_NS::utils::bnumeric(FLERR, word, false, lmp));
+}
+
+bool parse_double(LAMMPS_NS::LAMMPS *lmp, const std::string &word, double &v)
+{
+  const std::optional<double> d = number(lmp, word);
+  if (d) v = *d;
+  return d.has_value();
+}
+
+bool parse_long(LAMMPS_NS::LAMMPS *lmp, const std::string &word, long &v)
+{
+  const std::optional<long long> n = integer(lmp, word);
+  if (n) v = long(*n);
+  return n.has_value();
+}
+
+}  // namespace args
 
 void CommandArgs::fail(const std::string &what, const std::string &expected)
 {
@@ -33,10 +71,9 @@ std::string CommandArgs::word(const std::string &what) { return next(what); }
 double CommandArgs::number(const std::string &what)
 {
   const std::string s = next(what);
-  char *end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || *end != '\0' || !std::isfinite(v)) fail(what, "expected a finite number, got '" + s + "'");
-  return v;
+  const std::optional<double> v = args::number(lmp, s);
+  if (!v) fail(what, "expected a finite number, got '" + s + "'");
+  return *v;
 }
 
 double CommandArgs::positive(const std::string &what)
@@ -49,10 +86,9 @@ double CommandArgs::positive(const std::string &what)
 int CommandArgs::integer(const std::string &what)
 {
   const std::string s = next(what);
-  char *end = nullptr;
-  const long v = std::strtol(s.c_str(), &end, 10);
-  if (s.empty() || *end != '\0') fail(what, "expected an integer, got '" + s + "'");
-  return int(v);
+  const std::optional<long long> v = args::integer(lmp, s);
+  if (!v || *v > INT_MAX || *v < INT_MIN) fail(what, "expected an integer, got '" + s + "'");
+  return int(*v);
 }
 
 math::Vec3 CommandArgs::vec3(const std::string &what)
@@ -69,18 +105,19 @@ math::Vec3 CommandArgs::nonzero_vec3(const std::string &what)
   return v;
 }
 
+// Only the pair named (LIGGGHTS's syntax), read by utils::logical
 bool CommandArgs::yes_no(const std::string &what)
 {
   const std::string s = next(what);
   if (s != "yes" && s != "no") fail(what, "expected 'yes' or 'no', got '" + s + "'");
-  return s == "yes";
+  return LAMMPS_NS::utils::logical(FLERR, s, false, lmp) == 1;
 }
 
 bool CommandArgs::on_off(const std::string &what)
 {
   const std::string s = next(what);
   if (s != "on" && s != "off") fail(what, "expected 'on' or 'off', got '" + s + "'");
-  return s == "on";
+  return LAMMPS_NS::utils::logical(FLERR, s, false, lmp) == 1;
 }
 
 std::string CommandArgs::variable_name(const std::string &what)

@@ -1,14 +1,28 @@
-// Argument reader of the plugin's commands, on top of LAMMPS's own (`Pointers`, `Error`): a cursor over
+// Argument reader of the plugin's commands, on top of LAMMPS's own (`Pointers`, `Error`, `utils`): a cursor over
 // arg[first..narg) whose every failure is a LAMMPS ERROR naming the command, the argument and what was
-// expected ("fix ID: fraction_hertz: expected a positive number, got -1").
+// expected ("fix ID: fraction_hertz: expected a positive number, got -1"); and the word readers under it, for
+// the commands that parse their words themselves (definition files, key-value lists).
 #pragma once
 
 #include "pointers.h"
 #include "math/vec3.h"
 
+#include <optional>
 #include <string>
 
 namespace dembridge {
+
+// One word read through LAMMPS's utils: a number as utils::is_double accepts it and utils::numeric converts
+// it (finite), an integer as utils::is_integer and utils::bnumeric. Empty where the word is not one, for the
+// caller's ERROR, which names the command, the argument and what was expected (utils's own names neither).
+namespace args {
+bool is_number(const std::string &word);  // utils::is_double
+std::optional<double> number(LAMMPS_NS::LAMMPS *lmp, const std::string &word);
+std::optional<long long> integer(LAMMPS_NS::LAMMPS *lmp, const std::string &word);
+// The same as a bool with the value out, for the readers that test and read in one go.
+bool parse_double(LAMMPS_NS::LAMMPS *lmp, const std::string &word, double &v);
+bool parse_long(LAMMPS_NS::LAMMPS *lmp, const std::string &word, long &v);
+}  // namespace args
 
 class CommandArgs : protected LAMMPS_NS::Pointers {
  public:

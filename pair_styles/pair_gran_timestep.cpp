@@ -3,6 +3,7 @@
 // Rayleigh and Hertz times are those of that fix (materials/timestep_estimates.h).
 #include "pair_gran.h"
 
+#include "command_args.h"
 #include "timestep_estimates.h"
 
 #include "atom.h"
@@ -11,7 +12,7 @@
 #include "update.h"
 
 #include <cmath>
-#include <cstdlib>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,11 +35,10 @@ void PairGran::modify_params(int narg, char **arg)
     if (i + 1 >= narg)
       error->all(FLERR, "pair_modify timestep_check: expected yes, no or a fraction of the Rayleigh/Hertz time in (0, 1]");
     const std::string v = arg[++i];
-    char *end = nullptr;
-    const double f = std::strtod(v.c_str(), &end);
+    const std::optional<double> f = args::number(lmp, v);
     if (v == "yes") timestep_check_ = kDefaultFraction;
     else if (v == "no" || v == "off") timestep_check_ = 0.0;
-    else if (!v.empty() && *end == '\0' && f > 0.0 && f <= 1.0) timestep_check_ = f;
+    else if (f && *f > 0.0 && *f <= 1.0) timestep_check_ = *f;
     else
       error->all(FLERR, "pair_modify timestep_check: expected yes, no or a fraction of the Rayleigh/Hertz time in (0, 1], got '" +
                             v + "'");

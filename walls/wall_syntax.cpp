@@ -1,6 +1,8 @@
 #include "wall_syntax.h"
+#include "math/number_word.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <set>
@@ -37,19 +39,17 @@ bool is_2x_model_keyword(const std::string &w)
 double number(const std::string &prefix, const std::string &what, const std::vector<std::string> &a, std::size_t k)
 {
   if (k >= a.size()) throw SyntaxError(prefix + ": missing " + what + " at the end of the line");
-  char *end = nullptr;
-  const double v = std::strtod(a[k].c_str(), &end);
-  if (a[k].empty() || *end != '\0' || !std::isfinite(v))
-    throw SyntaxError(prefix + ": expected a number for " + what + ", got '" + a[k] + "'");
+  double v;
+  if (!math::read_number(a[k], v)) throw SyntaxError(prefix + ": expected a number for " + what + ", got '" + a[k] + "'");
   return v;
 }
 
 int integer(const std::string &prefix, const std::string &what, const std::vector<std::string> &a, std::size_t k)
 {
   if (k >= a.size()) throw SyntaxError(prefix + ": missing " + what + " at the end of the line");
-  char *end = nullptr;
-  const long v = std::strtol(a[k].c_str(), &end, 10);
-  if (a[k].empty() || *end != '\0') throw SyntaxError(prefix + ": expected an integer for " + what + ", got '" + a[k] + "'");
+  long long v;
+  if (!math::read_integer(a[k], v) || v > INT_MAX || v < INT_MIN)
+    throw SyntaxError(prefix + ": expected an integer for " + what + ", got '" + a[k] + "'");
   return int(v);
 }
 

@@ -1,4 +1,5 @@
 #include "fix_adapt_liggghts.h"
+#include "command_args.h"
 
 #include "style_registry.h"
 
@@ -11,7 +12,9 @@
 #include "utils.h"
 #include "variable.h"
 
+#include <climits>
 #include <cmath>
+#include <optional>
 #include <cstring>
 
 using namespace LAMMPS_NS;
@@ -38,8 +41,9 @@ bool FixAdaptLiggghts::is_liggghts_form(LAMMPS *lmp, int narg, char **arg)
 FixAdaptLiggghts::FixAdaptLiggghts(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
 {
   const std::string caller = std::string("fix adapt (id ") + id + ")";
-  nevery = utils::inumeric(FLERR, arg[3], false, lmp);
-  if (nevery < 0) error->all(FLERR, caller + ": N = " + arg[3] + ": expected a step interval >= 0");
+  const std::optional<long long> n = args::integer(lmp, arg[3]);
+  if (!n || *n < 0 || *n > INT_MAX) error->all(FLERR, caller + ": N = " + arg[3] + ": expected a step interval >= 0");
+  nevery = int(*n);
   variable_ = arg[6] + 2;
   for (int k = 7; k < narg; k += 2) {
     const std::string key = arg[k];

@@ -1,4 +1,5 @@
 #include "dump_custom_vtk.h"
+#include "command_args.h"
 
 #include "dump_modify_snapshot.h"
 #include "style_registry.h"
@@ -20,11 +21,13 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <map>
 #include <numeric>
+#include <optional>
 
 using namespace LAMMPS_NS;
 
@@ -109,9 +112,10 @@ void DumpCustomVTK::parse_attributes(int narg, char **arg)
         if (f.source == 3) fail("attribute '" + w + "'", "a variable takes no index");
         if (f.id.back() != ']') fail("attribute '" + w + "'", "expected ID[I] with a closing ']'");
         const std::string index = f.id.substr(open + 1, f.id.size() - open - 2);
-        if (index.empty() || index.find_first_not_of("0123456789") != std::string::npos)
+        const std::optional<long long> column = args::integer(lmp, index);
+        if (index.find_first_not_of("0123456789") != std::string::npos || !column || *column > INT_MAX)
           fail("attribute '" + w + "'", "expected a non-negative integer index between [ and ]");
-        f.column = std::stoi(index);
+        f.column = int(*column);
         f.id = f.id.substr(0, open);
       }
       if (f.source == 3) f.name = f.id;  // LIGGGHTS names a variable's array without 'v_'

@@ -1,6 +1,6 @@
 #include "insertion_args.h"
+#include "math/number_word.h"
 
-#include <cerrno>
 #include <climits>
 #include <cmath>
 #include <cstdlib>
@@ -10,19 +10,16 @@ namespace dembridge::insertion {
 
 double number_arg(const std::string &text, const std::string &keyword)
 {
-  char *end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !std::isfinite(v))
+  double v;
+  if (!math::read_number(text, v))
     throw std::invalid_argument("'" + keyword + "' expects a number, got '" + text + "'");
   return v;
 }
 
 int integer_arg(const std::string &text, const std::string &keyword)
 {
-  char *end = nullptr;
-  errno = 0;
-  const long v = std::strtol(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || errno == ERANGE || v > INT_MAX || v < INT_MIN)
+  long long v;
+  if (!math::read_integer(text, v) || v > INT_MAX || v < INT_MIN)
     throw std::invalid_argument("'" + keyword + "' expects an integer, got '" + text + "'");
   return static_cast<int>(v);
 }

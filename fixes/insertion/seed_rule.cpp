@@ -1,6 +1,6 @@
 #include "seed_rule.h"
+#include "math/number_word.h"
 
-#include <cerrno>
 #include <climits>
 #include <cstdlib>
 #include <stdexcept>
@@ -18,11 +18,9 @@ bool is_prime(long n)
 
 int parse_seed(const std::string &text)
 {
-  char *end = nullptr;
-  errno = 0;
-  const long long v = std::strtoll(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0') throw std::invalid_argument("seed '" + text + "' is not an integer");
-  if (errno == ERANGE || v > INT_MAX)
+  if (!math::is_integer_word(text)) throw std::invalid_argument("seed '" + text + "' is not an integer");
+  long long v = 0;
+  if (!math::read_integer(text, v) || v > INT_MAX)
     throw std::invalid_argument("seed " + text + " is larger than INT_MAX (" + std::to_string(INT_MAX) + ")");
   // LIGGGHTS's message: "It is required that the random seed value is > 10000 and a prime number"
   if (v < 10000 || !is_prime(static_cast<long>(v)))

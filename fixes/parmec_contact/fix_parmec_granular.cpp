@@ -1,5 +1,6 @@
 // fix parmec/granular: see fix_parmec_granular.h and doc/fix_parmec_granular.md.
 #include "rank_error.h"
+#include "command_args.h"
 #include "fix_parmec_granular.h"
 
 #include "style_registry.h"
@@ -157,7 +158,7 @@ bool FixParmecGranular::parse_pairing(const std::vector<std::string> &tok, std::
     } else if (kw == "friction") {
       w.next("friction");
       p.mu_static = w.number(w.next("friction value"), "friction");
-      mud_given = w.more() && state::is_number(w.peek());
+      mud_given = w.more() && args::is_number(w.peek());
       p.mu_dynamic = mud_given ? w.number(w.next("dynamic friction"), "dynamic friction") : p.mu_static;
     } else if (kw == "kskn") {
       w.next("kskn");
@@ -237,7 +238,7 @@ void FixParmecGranular::build_obstacles()
     std::array<springs::TimeSeries, 6> vel;
     for (int k = 0; k < 6; k++) {
       const std::string &s = d.velocity[k];
-      if (state::is_number(s))
+      if (args::is_number(s))
         vel[k] = springs::TimeSeries::constant(reader_.number(s, "obstacle velocity", "obstacle " + std::to_string(d.id)));
       else
         vel[k] = *reader_.tseries(s, who, k < 3 ? "linear" : "angular");

@@ -1,6 +1,7 @@
 #include "global_property.h"
+#include "math/number_word.h"
 
-#include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -14,11 +15,8 @@ const char *const kUsage =
 
 double parse_number(const std::string &word, const std::string &name, int index)
 {
-  const char *s = word.c_str();
-  char *end = nullptr;
-  errno = 0;
-  const double v = std::strtod(s, &end);
-  if (end == s || *end != '\0' || errno == ERANGE || !std::isfinite(v))
+  double v;
+  if (!math::read_number(word, v))
     throw PropertyError("fix property/global " + name + ": value " + std::to_string(index) + " '" + word +
                         "' is not a finite number");
   return v;
@@ -67,9 +65,8 @@ GlobalProperty GlobalProperty::parse(const std::vector<std::string> &args)
   std::size_t first = 2;
   if (p.style_ == Style::Matrix || p.style_ == Style::PerAtomTypePair) {
     const std::string &w = args[2];
-    char *end = nullptr;
-    const long n = std::strtol(w.c_str(), &end, 10);
-    if (end == w.c_str() || *end != '\0' || n < 1)
+    long long n = 0;
+    if (!math::read_integer(w, n) || n < 1 || n > INT_MAX)
       throw PropertyError("fix property/global " + p.name_ + ": " + args[1] +
                           " expects the number of columns as a positive integer first, got '" + w + "'");
     p.ncols_ = int(n);

@@ -1,5 +1,6 @@
 // fix parmec/rigid: see fix_parmec_rigid.h and doc/fix_parmec_rigid.md.
 #include "fix_parmec_rigid.h"
+#include "command_args.h"
 #include "rank_error.h"
 #include "definition_file.h"
 #include "state/table_registry.h"
@@ -34,8 +35,7 @@ namespace dembridge {
 
 namespace {
 
-using state::is_number;     // one number parser for every Parmec fix (fixes/state)
-using state::parse_double;
+using args::is_number;  // the commands' word readers, through LAMMPS's utils (command_args.h)
 
 // Rotation matrix (body -> space) of a LAMMPS quaternion (w, x, y, z): the spring loops' matrix.
 Mat3 rotation(const double *q)
@@ -295,7 +295,7 @@ void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::strin
   };
   auto tag_of = [&](const std::string &w, const std::string &kw) {
     double v;
-    if (!parse_double(w, v) || v < 1 || v != std::floor(v))
+    if (!args::parse_double(lmp, w, v) || v < 1 || v != std::floor(v))
       error->all(FLERR, at + kw + ": expected an atom ID (integer >= 1), got '" + w + "'");
     return static_cast<tagint>(v);
   };
@@ -309,7 +309,7 @@ void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::strin
       std::vector<double> tv;
       i += 2;
       double v;
-      while (i < tok.size() && parse_double(tok[i], v)) {
+      while (i < tok.size() && args::parse_double(lmp, tok[i], v)) {
         tv.push_back(v);
         i++;
       }
@@ -349,7 +349,7 @@ void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::strin
         std::vector<double> d;
         i++;
         double v;
-        while (i < tok.size() && parse_double(tok[i], v)) {
+        while (i < tok.size() && args::parse_double(lmp, tok[i], v)) {
           d.push_back(v);
           i++;
         }
@@ -387,14 +387,14 @@ void FixParmecRigid::parse(const std::vector<std::string> &tok, const std::strin
       need(6, "an ID, atom ID 1, the point x y z and atom ID 2 (or -1)");
       JointInput j;
       double v;
-      if (!parse_double(tok[i + 1], v) || v != std::floor(v))
+      if (!args::parse_double(lmp, tok[i + 1], v) || v != std::floor(v))
         error->all(FLERR, at + "joint: expected an integer joint ID, got '" + tok[i + 1] + "'");
       j.id = static_cast<long>(v);
       for (const auto &o : joint_in_)
         if (o.id == j.id) error->all(FLERR, at + "joint " + tok[i + 1] + ": ID defined twice");
       j.tag1 = tag_of(tok[i + 2], "joint " + tok[i + 1] + " atom 1");
       for (int c = 0; c < 3; c++)
-        if (!parse_double(tok[i + 3 + c], j.point[c]))
+        if (!args::parse_double(lmp, tok[i + 3 + c], j.point[c]))
           error->all(FLERR, at + "joint " + tok[i + 1] + ": expected the point x y z, got '" + tok[i + 3 + c] + "'");
       if (tok[i + 6] == "-1")
         j.tag2 = -1;
@@ -453,7 +453,7 @@ FixParmecRigid::Series FixParmecRigid::parse_series(const std::string &word, con
                                                     const std::string &where)
 {
   Series s;
-  if (parse_double(word, s.value)) return s;
+  if (args::parse_double(lmp, word, s.value)) return s;
   if (word.rfind("v_", 0) == 0) {
     s.kind = 2;
     s.name = word.substr(2);

@@ -1,6 +1,7 @@
 // fix parmec/spring: LAMMPS glue for the Parmec SPRING kernels. See fix_parmec_spring.h for the design
 // and doc/fix_parmec_spring.md for the user syntax.
 #include "fix_parmec_spring.h"
+#include "command_args.h"
 #include "fix_parmec_spring_slot.h"
 #include "definition_file.h"
 
@@ -45,7 +46,7 @@ bool is_spring_option(const std::string &s)
   return false;
 }
 
-using state::is_number;
+using args::is_number;
 using Rot = sp::BodyRotation;
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "definition_reader.h"
+#include "command_args.h"
 
 #include "definition_file.h"
 
@@ -27,7 +28,7 @@ void DefinitionReader::need(const Words &tok, std::size_t i, std::size_t n, cons
 double DefinitionReader::number(const std::string &s, const std::string &what, const std::string &where) const
 {
   double v;
-  if (!parse_double(s, v) || !std::isfinite(v))
+  if (!args::parse_double(lmp, s, v))
     error->all(FLERR, cmd_ + " (" + where + "): " + what + ": expected a finite number, got '" + s + "'");
   return v;
 }
@@ -35,7 +36,7 @@ double DefinitionReader::number(const std::string &s, const std::string &what, c
 long DefinitionReader::integer(const std::string &s, const std::string &what, const std::string &where) const
 {
   long v;
-  if (!parse_long(s, v))
+  if (!args::parse_long(lmp, s, v))
     error->all(FLERR, cmd_ + " (" + where + "): " + what + ": expected an integer, got '" + s + "'");
   return v;
 }
@@ -83,10 +84,10 @@ void DefinitionReader::table_or_tseries(const Words &tok, std::size_t &i, const 
   const std::string kw = tok[i];
   need(tok, i, 1, "an ID and values", where);
   const std::string tid = tok[i + 1];
-  if (is_number(tid)) error->all(FLERR, cmd_ + " (" + where + "): " + kw + " ID '" + tid + "' must not be a number");
+  if (args::is_number(tid)) error->all(FLERR, cmd_ + " (" + where + "): " + kw + " ID '" + tid + "' must not be a number");
   std::vector<double> xy;
   i += 2;
-  while (i < tok.size() && is_number(tok[i])) xy.push_back(number(tok[i++], kw + " " + tid + " value", where));
+  while (i < tok.size() && args::is_number(tok[i])) xy.push_back(number(tok[i++], kw + " " + tid + " value", where));
   const std::string who = cmd_ + " (" + where + "): " + kw + " " + tid + ": ";
   if (kw == "table" ? tables.table(tid) != nullptr : tables.tseries(tid) != nullptr)
     error->all(FLERR, who + "ID defined twice");
@@ -110,7 +111,7 @@ void DefinitionReader::history_request(const Words &tok, std::size_t &i, const s
     error->all(FLERR, ctx + "interval N must be an integer >= 1, got '" + tok[i + 2] + "'");
   history.every = static_cast<int>(every);
   i += 3;
-  while (i < tok.size() && is_number(tok[i]))
+  while (i < tok.size() && args::is_number(tok[i]))
     history.ids.push_back(std::lround(number(tok[i++], "history " + entity_ + " ID", where)));
   if (history.ids.empty()) error->all(FLERR, ctx + "expected at least one " + entity_ + " ID after the interval");
 }
@@ -155,7 +156,7 @@ const std::string &EntityWords::next(const std::string &what)
 long EntityWords::integer(const std::string &s, const std::string &what) const
 {
   long v;
-  if (!parse_long(s, v)) error->all(FLERR, ctx_ + ": " + what + ": expected an integer, got '" + s + "'");
+  if (!args::parse_long(lmp, s, v)) error->all(FLERR, ctx_ + ": " + what + ": expected an integer, got '" + s + "'");
   return v;
 }
 

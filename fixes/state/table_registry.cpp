@@ -1,31 +1,8 @@
 #include "table_registry.h"
 
-#include <cstdlib>
 #include <stdexcept>
 
 namespace dembridge::state {
-
-bool parse_double(const std::string &s, double &v)
-{
-  if (s.empty()) return false;
-  char *end = nullptr;
-  v = std::strtod(s.c_str(), &end);
-  return end && *end == '\0';
-}
-
-bool is_number(const std::string &s)
-{
-  double v;
-  return parse_double(s, v);
-}
-
-bool parse_long(const std::string &s, long &v)
-{
-  if (s.empty()) return false;
-  char *end = nullptr;
-  v = std::strtol(s.c_str(), &end, 10);
-  return *end == '\0';
-}
 
 void TableRegistry::define_table(const std::string &id, const std::vector<double> &xy)
 {

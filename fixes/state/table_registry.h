@@ -12,11 +12,6 @@
 
 namespace dembridge::state {
 
-// Whole-word number parsing shared by the definition readers: true iff all of s is a number.
-bool parse_double(const std::string &s, double &v);
-bool is_number(const std::string &s);
-bool parse_long(const std::string &s, long &v);
-
 class TableRegistry {
  public:
   // Throw std::invalid_argument: "ID defined twice", or the rule the values break.

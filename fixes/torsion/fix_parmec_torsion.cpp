@@ -1,6 +1,7 @@
 // fix parmec/torsion: LAMMPS glue for the Parmec TORSION_SPRING kernels. See fix_parmec_torsion.h for the
 // design and doc/fix_parmec_torsion.md for the user syntax.
 #include "fix_parmec_torsion.h"
+#include "command_args.h"
 #include "definition_file.h"
 
 #include "style_registry.h"
@@ -60,7 +61,7 @@ bool is_keyword(const std::string &s)
   return false;
 }
 
-using state::is_number;
+using args::is_number;
 
 // Row-major rotation matrix (body -> space) of a LAMMPS quaternion (w, x, y, z): the spring loops' matrix.
 ts::Mat3 rotation(const double *q)

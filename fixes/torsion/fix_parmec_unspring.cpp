@@ -1,5 +1,6 @@
 // fix parmec/unspring: LAMMPS glue for the UNSPRING kernels. See fix_parmec_unspring.h for the design.
 #include "fix_parmec_unspring.h"
+#include "command_args.h"
 
 #include "fix_parmec_spring.h"
 #include "style_registry.h"
@@ -28,7 +29,7 @@ namespace dembridge {
 
 namespace {
 
-using state::is_number;
+using args::is_number;
 
 FixParmecSpring::Entity spring_entity(ts::Entity e)
 {

@@ -1,4 +1,5 @@
 #include "model_syntax.h"
+#include "math/number_word.h"
 
 #include <cstdlib>
 #include <map>
@@ -28,13 +29,7 @@ const std::map<std::string, StyleInfo> &legacy_styles()
   return m;
 }
 
-bool is_number(const std::string &w)
-{
-  if (w.empty()) return false;
-  char *end = nullptr;
-  std::strtod(w.c_str(), &end);
-  return *end == '\0';
-}
+bool is_number(const std::string &w) { return math::is_number_word(w); }
 
 bool on_off(const std::string &style, const std::string &key, const std::string &value)
 {
@@ -128,8 +123,10 @@ ModelDescription parse_numeric(const std::string &style, const std::vector<std::
   const char *usage = ": expected 'Kn Kt gamma_n gamma_t xmu dampflag [limit_damping]' (Kt, gamma_t may be NULL)";
   if (args.size() != 6 && args.size() != 7) throw SyntaxError("pair_style " + style + usage);
   auto num = [&](std::size_t k, const char *what) {
-    if (!is_number(args[k])) throw SyntaxError("pair_style " + style + ": " + what + " '" + args[k] + "' is not a number" + usage);
-    return std::strtod(args[k].c_str(), nullptr);
+    double v;
+    if (!math::read_number(args[k], v))
+      throw SyntaxError("pair_style " + style + ": " + what + " '" + args[k] + "' is not a number" + usage);
+    return v;
   };
   auto &c = d.numeric;
   c.kn = num(0, "Kn");

@@ -1,4 +1,4 @@
-// TableRegistry and the whole-word number parsing of the Parmec-style definitions.
+// TableRegistry of the Parmec-style definitions (their words are read by LAMMPS's utils: fixes/command_args.h).
 #include "table_registry.h"
 
 #include <gtest/gtest.h>
@@ -6,22 +6,6 @@
 #include <stdexcept>
 
 using namespace dembridge::state;
-
-TEST(DefinitionNumbers, WholeWordsOnly)
-{
-  double v = 0.0;
-  EXPECT_TRUE(parse_double("1e-3", v));
-  EXPECT_EQ(v, 1e-3);
-  EXPECT_FALSE(parse_double("1e-3x", v));
-  EXPECT_FALSE(parse_double("", v));
-  EXPECT_FALSE(is_number("K"));
-  EXPECT_TRUE(is_number("-7"));
-  long l = 0;
-  EXPECT_TRUE(parse_long("-1", l));
-  EXPECT_EQ(l, -1);
-  EXPECT_FALSE(parse_long("1.5", l));
-  EXPECT_FALSE(parse_long("", l));
-}
 
 TEST(TableRegistry, DefinesLooksUpAndRejectsTwice)
 {

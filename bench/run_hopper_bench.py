@@ -9,7 +9,12 @@ by LIGGGHTS 3.8 (/usr/bin/liggghts) and by LAMMPS + the dembridge plugin, in one
 Ratios plugin / LIGGGHTS are printed and written to bench/out/hopper_results.md.
 
 usage: /work/main/.venv/bin/python bench/run_hopper_bench.py [--steps 100] [--wall-steps 500] [--rounds 2]
-       [--no-callgrind] [--plugin build/dembridgeplugin.so]
+       [--no-callgrind] [--no-wall] [--plugin build/dembridgeplugin.so] [--out DIR]
+
+The mesh wall part (callgrind): the inclusive Ir of the mesh wall's own hooks per atom-step. LAMMPS + dembridge:
+fix wall/gran's and fix mesh/surface's hooks (the contact pass, the particle-triangle candidate lists at
+re-neighbouring, the stress sums); LIGGGHTS 3.8: the same fixes plus its helper fixes neighlist/mesh (candidate
+lists) and contacthistory/mesh (the wall contacts' history). Written to hopper_results.csv too.
 """
 import argparse
 import concurrent.futures
@@ -84,6 +89,23 @@ def parse_log(path):
     return (float(m.group(1)) if m else math.nan), natoms, rows, [l for l in text.splitlines() if l.startswith("ERROR")]
 
 
+# the mesh wall's own hooks (called by Modify; inclusive Ir counted once each)
+HOOKS = r"(post_force|pre_force|post_neighbor|final_integrate|initial_integrate|pre_exchange|end_of_step)\("
+WALL_PART = {"lammps": re.compile(r"^dembridge::(FixWallGran|FixMeshSurface)::" + HOOKS),
+             "liggghts": re.compile(r"^LAMMPS_NS::(FixWallGran|FixMeshSurface|FixNeighlistMesh|FixContactHistoryMesh)::" + HOOKS)}
+
+
+def wall_part_ir(code, cg):
+    """Summed inclusive Ir of the mesh wall's hooks (WALL_PART) in callgrind file cg."""
+    out = subprocess.run(["callgrind_annotate", "--inclusive=yes", "--threshold=100", cg], capture_output=True, text=True).stdout
+    total = 0
+    for line in out.splitlines():
+        m = re.match(r"^\s*([\d,]+)\s+(?:\([^)]*\)\s+)?(?:\?\?\?|[^:]*):(.*?) \[", line)
+        if m and WALL_PART[code].match(m.group(2)):
+            total += int(m.group(1).replace(",", ""))
+    return total
+
+
 def callgrind(code, nsteps, out):
     cg = os.path.join(out, f"cg.{code}.out")
     log = os.path.join(out, f"cg.{code}.log")
@@ -99,9 +121,11 @@ def callgrind(code, nsteps, out):
                 ir = int(line.split()[1])
                 break
     _, natoms, rows, err = parse_log(log)
+    wall_ir = wall_part_ir(code, cg) if rc == 0 else math.nan
     print(f"  callgrind {code:8s} rc={rc} Ir={ir:,.0f} over {nsteps} steps x {natoms} atoms "
-          f"= {ir / (nsteps * natoms):.0f}/atom-step ({time.time() - t0:.0f} s) {err}", flush=True)
-    return ir / (nsteps * natoms), rows
+          f"= {ir / (nsteps * natoms):.1f}/atom-step, mesh wall part {wall_ir / (nsteps * natoms):.1f} "
+          f"({time.time() - t0:.0f} s) {err}", flush=True)
+    return ir / (nsteps * natoms), rows, wall_ir / (nsteps * natoms)
 
 
 def wall(code, nsteps, out, tag):
@@ -118,9 +142,11 @@ def main():
     ap.add_argument("--wall-steps", type=int, default=500)
     ap.add_argument("--rounds", type=int, default=2)
     ap.add_argument("--no-callgrind", action="store_true")
+    ap.add_argument("--no-wall", action="store_true")
     ap.add_argument("--plugin", default=os.path.join(REPO, "build", "dembridgeplugin.so"))
+    ap.add_argument("--out", default=os.path.join(HERE, "out", "hopper"), help="output folder (default bench/out/hopper)")
     a = ap.parse_args()
-    out = os.path.join(HERE, "out", "hopper")
+    out = a.out
     os.makedirs(out, exist_ok=True)
     plugin = os.path.join(out, "dembridgeplugin.so")
     shutil.copy(a.plugin, plugin)  # a rebuild during the run does not change what is measured
@@ -131,6 +157,9 @@ def main():
         with concurrent.futures.ThreadPoolExecutor(2) as ex:
             futs = {c: ex.submit(callgrind, c, a.steps, out) for c in ("liggghts", "lammps")}
             res["ir"] = {c: f.result()[0] for c, f in futs.items()}
+            res["wall_ir"] = {c: f.result()[2] for c, f in futs.items()}
+    if a.no_wall:
+        a.rounds = 0
     print(f"(b) wall time, serial, {a.wall_steps} steps, best of {a.rounds} interleaved rounds", flush=True)
     best = {"liggghts": math.inf, "lammps": math.inf}
     natoms = {}
@@ -143,12 +172,20 @@ def main():
     lines = ["| measure | LIGGGHTS 3.8 | LAMMPS + dembridge | ratio dembridge / LIGGGHTS |", "|---|---|---|---|"]
     if "ir" in res:
         i = res["ir"]
-        lines.append(f"| Ir per atom-step ({a.steps} steps) | {i['liggghts']:.0f} | {i['lammps']:.0f} | {i['lammps'] / i['liggghts']:.3f} |")
-    lines.append(f"| wall time, {a.wall_steps} steps, 1 rank [s] | {best['liggghts']:.2f} | {best['lammps']:.2f} | "
-                 f"{best['lammps'] / best['liggghts']:.3f} |")
-    fz = {c: float(last[c][-1][3]) for c in last}
-    lines.append(f"| atoms | {natoms['liggghts']} | {natoms['lammps']} | |")
-    lines.append(f"| force on the hopper F_z at the last step [N] | {fz['liggghts']:.6g} | {fz['lammps']:.6g} | |")
+        w = res["wall_ir"]
+        lines.append(f"| Ir per atom-step ({a.steps} steps) | {i['liggghts']:.1f} | {i['lammps']:.1f} | {i['lammps'] / i['liggghts']:.3f} |")
+        lines.append(f"| mesh wall part, Ir per atom-step | {w['liggghts']:.1f} | {w['lammps']:.1f} | {w['lammps'] / w['liggghts']:.3f} |")
+    if a.rounds:
+        lines.append(f"| wall time, {a.wall_steps} steps, 1 rank [s] | {best['liggghts']:.2f} | {best['lammps']:.2f} | "
+                     f"{best['lammps'] / best['liggghts']:.3f} |")
+        fz = {c: float(last[c][-1][3]) for c in last}
+        lines.append(f"| atoms | {natoms['liggghts']} | {natoms['lammps']} | |")
+        lines.append(f"| force on the hopper F_z at the last step [N] | {fz['liggghts']:.6g} | {fz['lammps']:.6g} | |")
+    with open(os.path.join(out, "hopper_results.csv"), "w") as fh:
+        fh.write("steps,wall_steps,code,ir_per_atom_step,wall_part_ir_per_atom_step,loop_best\n")
+        for c in ("liggghts", "lammps"):
+            i, w = res.get("ir", {}).get(c, math.nan), res.get("wall_ir", {}).get(c, math.nan)
+            fh.write(f"{a.steps},{a.wall_steps},{c},{i!r},{w!r},{best[c]!r}\n")
     text = "\n".join(lines)
     print(text)
     open(os.path.join(out, "hopper_results.md"), "w").write(text + "\n")

@@ -76,7 +76,8 @@ class FixWallGran : public state::PerAtomRecordsFix {
   const int *rigid_body_ = nullptr;       // this step's body index per local atom (-1: none)
   const double *rigid_mass_ = nullptr;    // total mass per body
   void find_rigid_masses();
-  std::vector<unsigned char> kept_;  // per atom slot, this pass
+  std::vector<unsigned char> kept_;  // per slot of the active atoms, this pass
+  std::vector<int> active_, has_candidates_;  // mesh_pass: the atoms with candidate triangles
 };
 
 }  // namespace dembridge

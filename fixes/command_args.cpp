@@ -1,4 +1,5 @@
 #include "command_args.h"
+#include "math/number_word.h"
 
 #include "error.h"
 #include "input.h"
@@ -17,10 +18,9 @@ bool is_number(const std::string &word) { return LAMMPS_NS::utils::is_double(wor
 
 std::optional<double> number(LAMMPS_NS::LAMMPS *lmp, const std::string &word)
 {
-  if (!LAMMPS_NS::utils::is_double(word)) return std::nullopt;
-  const double v = LAMMPS_NS::utils::numeric(FLERR, word, false, lmp);
-  if (!std::isfinite(v)) return std::nullopt;
-  return v;
+  double finite;  // utils::numeric stops with its own ERROR on an out-of-range word (1e400): tested first
+  if (!LAMMPS_NS::utils::is_double(word) || !math::read_number(word, finite)) return std::nullopt;
+  return LAMMPS_NS::utils::numeric(FLERR, word, false, lmp);
 }
 
 std::optional<long long> integer(LAMMPS_NS::LAMMPS *lmp, const std::string &word)

@@ -33,7 +33,8 @@ struct Atoms {
 
 bool same_bits(const std::vector<double> &a, const std::vector<double> &b)
 {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+  // empty vectors may hold null data(), which memcmp must not get even for 0 bytes
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 """wear finnie of fix mesh/surface/stress, written by dump mesh/vtk ... wear: Finnie's formula on one
 contact (a sphere held against a flat plate at a fixed speed, so every step adds the same wear), and
-LIGGGHTS 3.8 run live on tests/data/liggghts-wear (200 particles falling into a funnel)."""
+LIGGGHTS 3.8 run live on tests/data/liggghts-wear (200 particles falling into a funnel). LIGGGHTS's
+values at full precision come from its binary restart file (liggghts_restart.py): its mesh dump prints
+11 significant digits only."""
 import math
 import sys
 from pathlib import Path
@@ -14,6 +16,7 @@ sys.path.insert(0, str(ROOT / "tests" / "oracle"))
 import oracle_harness as oh  # noqa: E402
 
 from bad_input_check import assert_error  # noqa: E402
+from liggghts_restart import wear_by_triangle  # noqa: E402
 from test_bad_input import run_deck  # noqa: E402
 
 PLATE = ROOT / "tests" / "data" / "liggghts-walls" / "mesh" / "plate.stl"  # two triangles, z = 0, area 8e-4 each
@@ -63,12 +66,18 @@ def plate_run(tmp_path, v):
 
 
 def plate_liggghts(tmp_path, v):
-    """LIGGGHTS 3.8's wear on the same deck (atom_style granular, communicate, mesh/gran/VTK)."""
+    """LIGGGHTS 3.8's wear on the same deck (atom_style granular, communicate, mesh/gran/VTK): the values of
+    its restart file written after the run, checked against its own 11-digit mesh dump."""
     lines = ["atom_style granular" if l == "atom_style sphere" else "communicate single vel yes" if l.startswith("comm_modify")
-             else l for l in plate_lines(v, "gran/VTK", tmp_path / "lig")]
+             else l for l in plate_lines(v, "gran/VTK", tmp_path / "lig")] + ["write_restart wear.restart"]
     (tmp_path / "case").mkdir()
     oh.run_liggghts(tmp_path / "case", tmp_path / "lig", deck_text="\n".join(lines) + "\n")
-    return read_wear(tmp_path / "lig" / f"wear_{N}.vtk")
+    full = wear_by_triangle(tmp_path / "lig" / "wear.restart", "cad")
+    assert sorted(full) == [0, 1]
+    printed = read_wear(tmp_path / "lig" / f"wear_{N}.vtk")
+    for t, x in enumerate(printed):
+        assert abs(full[t] - x) <= 5e-11 * abs(full[t]), (t, full[t], x)  # the restart holds what the dump rounds
+    return [full[0], full[1]]
 
 
 def finnie(v, fmag, area):
@@ -90,7 +99,7 @@ def test_finnie_formula_on_one_contact(tmp_path, v, branch):
     assert (expect > 0) == (branch != "head-on")
     assert wear[1] == 0.0  # the other triangle is not touched
     lig = plate_liggghts(tmp_path, v)
-    assert abs(lig[0] - wear[0]) <= 5e-11 * abs(wear[0]) and lig[1] == 0.0, (lig, wear)
+    assert lig == wear, (lig, wear)
 
 
 def test_no_wear_when_moving_away(tmp_path):
@@ -99,9 +108,11 @@ def test_no_wear_when_moving_away(tmp_path):
 
 
 def test_wear_deck_against_liggghts(tmp_path):
+    """Every triangle's wear at steps 0 and 7000 to LIGGGHTS's 11 printed digits, and at the end (step 14000)
+    to 1e-12 against the doubles of LIGGGHTS's restart file written after the run."""
     deck = (CASE / "in.liggghts").read_text()
     ref = tmp_path / "liggghts"
-    oh.run_liggghts(FUNNEL, ref, deck_text=deck)
+    oh.run_liggghts(FUNNEL, ref, deck_text=deck + "write_restart wear.restart\n")
     ours = tmp_path / "lammps"
     lmp_deck = oh.liggghts_to_lammps_deck(deck.replace("mesh/gran/VTK", "mesh/vtk"), syntax="3x")
     oh.run_lammps(lmp_deck, ours, files=[FUNNEL / "data.txt", FUNNEL / "funnel.stl"])
@@ -115,6 +126,17 @@ def test_wear_deck_against_liggghts(tmp_path):
             assert (x == 0.0) == (y == 0.0), (step, t, x, y)
         worn = sum(1 for x in a if x > 0)
     assert worn >= 20  # the funnel did wear (34 of 60 triangles by step 14000)
+    full, ours_end = wear_by_triangle(ref / "wear.restart", "cad"), read_wear(ours / "mesh_14000.vtk")
+    assert sorted(full) == list(range(60))
+    worst = 0.0
+    for t, y in enumerate(ours_end):
+        x = full[t]
+        assert abs(x - y) <= 1e-12 * abs(x), (t, x, y)
+        worst = max(worst, abs(x - y) / abs(x)) if x else worst
+    worn_end = [t for t in range(60) if full[t] > 0]
+    assert len(worn_end) >= 20 and all((full[t] == 0.0) == (ours_end[t] == 0.0) for t in range(60))
+    print(f"wear at step 14000: largest relative difference {worst:.3g}; of the {len(worn_end)} worn triangles "
+          f"{sum(full[t] == ours_end[t] for t in worn_end)} bit-identical")
 
 
 BASE = ["units si", "atom_style sphere", "boundary f f f", "newton off", "comm_modify vel yes", "region box block -0.05 0.05 -0.05 0.05 -0.05 0.05",

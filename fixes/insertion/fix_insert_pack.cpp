@@ -4,6 +4,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
+#include "modify.h"
 #include "region.h"
 #include "update.h"
 #include "style_registry.h"
@@ -13,6 +14,7 @@
 #include "insertion_atoms.h"
 #include "lammps_region_view.h"
 #include "pack_insertion.h"
+#include "restart_record.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -71,7 +73,8 @@ FixInsertPack::FixInsertPack(LAMMPS *lmp, int narg, char **arg) :
         throw std::invalid_argument("must define exactly one keyword out of 'volumefraction_region', "
                                     "'particles_in_region', and 'mass_in_region'");
     }
-    if (k_.start >= 0 && k_.start < update->ntimestep + 1)
+    // after read_restart the saved next step replaces 'start' (init() checks a new fix's start)
+    if (k_.start >= 0 && k_.start < update->ntimestep + 1 && modify->nfix_restart_global == 0)
       throw std::invalid_argument("'start' step can not be before current step");
     dist_->check_seeds_differ(k_.seed);
     if (k_.all_in) {
@@ -89,6 +92,8 @@ FixInsertPack::FixInsertPack(LAMMPS *lmp, int narg, char **arg) :
   insert_rng_.reset(k_.seed);  // LIGGGHTS adds the rank; every rank here draws rank 0's stream
   force_reneighbor = 1;
   next_reneighbor = k_.start >= 0 ? k_.start : update->ntimestep + 1;
+  first_next_ = next_reneighbor;
+  restart_global = 1;
   vector_flag = 1;
   size_vector = 2;
   global_freq = 1;
@@ -107,6 +112,9 @@ void FixInsertPack::init()
   region_ = domain->get_region_by_id(p_.region);
   if (!dist_) error->all(FLERR, prefix() + "particle distribution '" + k_.distribution + "' was deleted");
   if (!region_) error->all(FLERR, prefix() + "regions used by this command must not be deleted ('" + p_.region + "')");
+  if (next_reneighbor > 0 && next_reneighbor <= update->ntimestep)  // LIGGGHTS's check of a fix new after a restart
+    error->all(FLERR, prefix() + "'start' step can not be before current step (start " + std::to_string(next_reneighbor) +
+                          ", current step " + std::to_string(update->ntimestep) + ")");
   for (const auto &t : dist_->distribution().templates())
     if (t.type > atom->ntypes)
       error->all(FLERR, prefix() + "a template inserts atom type " + std::to_string(t.type) +
@@ -130,8 +138,11 @@ void FixInsertPack::setup(int)
   if (setup_done_) return;
   setup_done_ = true;
   region_->prematch();
-  region_rng_.reset(k_.seed + kRegionSeedOffset);
-  compute_region_volume();
+  if (!volume_done_) {
+    region_rng_.reset(k_.seed + kRegionSeedOffset);
+    compute_region_volume();
+    volume_done_ = true;
+  }
   if (rate_) {  // LIGGGHTS's calc_insertion_properties of insert/rate/region
     const double mass_expect = dist_->distribution().mass_expect();
     ninsert_ = static_cast<long>(k_.nparticles);
@@ -139,6 +150,14 @@ void FixInsertPack::setup(int)
     double nflowrate = k_.particlerate;
     if (nflowrate == 0.) nflowrate = k_.massrate / mass_expect;
     ninsert_per_ = nflowrate * (static_cast<double>(k_.insert_every) * update->dt);
+  }
+  if (resume_if_more_) {  // as LIGGGHTS: a finished insertion resumes after a restart if the total was raised
+    resume_if_more_ = false;
+    const bool more = rate_ && (k_.n_infinite || ninserted_ < ninsert_);
+    next_reneighbor = more ? first_next_ : 0;
+    if (more && comm->me == 0)
+      utils::logmesg(lmp, "INFO: Particle insertion {}: the total was raised after the restart, resuming at step {}\n",
+                     id, next_reneighbor);
   }
   if (comm->me == 0)
     utils::logmesg(lmp, "INFO: Particle insertion {}: inserting every {} steps\n", id, k_.insert_every);
@@ -266,6 +285,52 @@ void *FixInsertPack::extract(const char *name, int &type)
   extract_radius_ = dist_->max_radius_of_type(type);
   type = 0;
   return &extract_radius_;
+}
+
+namespace {
+constexpr double kPackRecord = 2402., kRateRecord = 2403.;  // insert/pack, insert/rate/region, layout 1
+}
+
+void FixInsertPack::write_restart(FILE *fp)
+{
+  if (comm->me != 0) return;
+  insertion::RestartWriter w(rate_ ? kRateRecord : kPackRecord);
+  for (double x : {double(k_.seed), double(next_reneighbor), double(most_recent_), double(ninserted_), massinserted_,
+                   k_.exact_number ? 1. : 0., volume_done_ ? 1. : 0., region_volume_, region_volume_local_})
+    w.put(x);
+  w.put(insert_rng_);
+  w.put(region_rng_);
+  w.write(fp);
+}
+
+// LIGGGHTS 3.8 restores the insert stream, the counts and the next step, and reseeds the region's
+// stream (so its restarted run leaves the stream of an uninterrupted one); here both streams and
+// the region volume continue where they stopped.
+void FixInsertPack::restart(char *buf)
+{
+  try {
+    insertion::RestartReader r(buf, rate_ ? kRateRecord : kPackRecord);
+    const int seed = static_cast<int>(r.get());
+    if (seed != k_.seed)
+      throw std::invalid_argument("seed " + std::to_string(k_.seed) + " differs from the seed " + std::to_string(seed) +
+                                  " the restart file was written with (define the fix with the same seed as before "
+                                  "write_restart)");
+    const auto next = static_cast<bigint>(r.get());
+    most_recent_ = static_cast<bigint>(r.get());
+    ninserted_ = r.get_long();
+    massinserted_ = r.get();
+    k_.exact_number = r.get_bool();
+    volume_done_ = r.get_bool();
+    region_volume_ = r.get();
+    region_volume_local_ = r.get();
+    r.get(insert_rng_);
+    r.get(region_rng_);
+    if (next != 0) next_reneighbor = next;
+    else if (k_.insert_every == 0 || !rate_) next_reneighbor = 0;  // insert_every once: done
+    else resume_if_more_ = true;
+  } catch (const std::invalid_argument &e) {
+    error->all(FLERR, prefix() + "restart: " + e.what());
+  }
 }
 
 double FixInsertPack::compute_vector(int i) { return i == 0 ? static_cast<double>(ninserted_) : massinserted_; }

@@ -28,6 +28,9 @@ class FixInsertPack : public LAMMPS_NS::Fix {
   void setup(int vflag) override;
   void pre_exchange() override;
   double compute_vector(int i) override;
+  // Restart: both streams, the region volume, the next insertion step, the counts (doc "Restart info").
+  void write_restart(FILE *fp) override;
+  void restart(char *buf) override;
   // "radius", type: the largest radius this fix inserts of that type (pair styles size their
   // neighbour cut-off with it before the particles exist, as for fix pour)
   void *extract(const char *name, int &type) override;
@@ -46,6 +49,9 @@ class FixInsertPack : public LAMMPS_NS::Fix {
   insertion::ParkMiller insert_rng_, region_rng_;
   double region_volume_ = 0.0, region_volume_local_ = 0.0, insertion_ratio_ = 0.0;
   bool setup_done_ = false;
+  bool volume_done_ = false;         // region_volume_ drawn (in setup or read from a restart file)
+  bool resume_if_more_ = false;      // restart of a finished insertion: go on if the total was raised
+  LAMMPS_NS::bigint first_next_ = 0; // next_reneighbor as the constructor set it
   LAMMPS_NS::bigint most_recent_ = -1;
   long ninserted_ = 0;
   long ninsert_ = 0;          // insert/rate/region: the total to insert

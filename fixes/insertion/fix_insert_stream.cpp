@@ -5,6 +5,7 @@
 #include "domain.h"
 #include "error.h"
 #include "memory.h"
+#include "modify.h"
 #include "update.h"
 #include "style_registry.h"
 
@@ -12,6 +13,7 @@
 #include "fix_particle_distribution.h"
 #include "insertion_atoms.h"
 #include "math/vec3.h"
+#include "restart_record.h"
 
 #include <algorithm>
 #include <array>
@@ -59,7 +61,8 @@ FixInsertStream::FixInsertStream(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
                                   "does not accept INF)");
     if (k_.particlerate <= 0. && k_.massrate <= 0.)
       throw std::invalid_argument("must define either 'massrate' or 'particlerate'");
-    if (k_.start >= 0 && k_.start < update->ntimestep + 1)
+    // after read_restart the saved next step replaces 'start' (init() checks a new fix's start)
+    if (k_.start >= 0 && k_.start < update->ntimestep + 1 && modify->nfix_restart_global == 0)
       throw std::invalid_argument("'start' step can not be before current step");
     dist_->check_seeds_differ(k_.seed);
   } catch (const std::invalid_argument &e) {
@@ -73,6 +76,9 @@ FixInsertStream::FixInsertStream(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
   face_rng_.reset(kFaceSeed);
   force_reneighbor = 1;
   next_reneighbor = k_.start >= 0 ? k_.start : update->ntimestep + 1;
+  first_next_ = next_reneighbor;
+  restart_global = 1;
+  restart_peratom = 1;
   vector_flag = 1;
   size_vector = 2;
   global_freq = 1;
@@ -80,12 +86,14 @@ FixInsertStream::FixInsertStream(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
   create_attribute = 1;
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
+  atom->add_callback(Atom::RESTART);
   for (int i = 0; i < atom->nlocal; ++i) set_arrays(i);
 }
 
 FixInsertStream::~FixInsertStream()
 {
   atom->delete_callback(id, Atom::GROW);
+  atom->delete_callback(id, Atom::RESTART);
   memory->destroy(release_);
 }
 
@@ -134,6 +142,19 @@ void FixInsertStream::init()
     if (t.type > atom->ntypes)
       error->all(FLERR, prefix() + "a template inserts atom type " + std::to_string(t.type) +
                             " but there are only " + std::to_string(atom->ntypes) + " atom types");
+  if (next_reneighbor > 0 && next_reneighbor <= update->ntimestep)  // LIGGGHTS's check of a fix new after a restart
+    error->all(FLERR, prefix() + "'start' step can not be before current step (start " + std::to_string(next_reneighbor) +
+                          ", current step " + std::to_string(update->ntimestep) + ")");
+  if (restart_dt_ > 0. && restart_dt_ != update->dt) {
+    // the release steps and the insertion period were counted in steps of the old timestep
+    int pending = 0, pending_all = 0;
+    for (int i = 0; i < atom->nlocal; ++i) pending += release_[i][3] != 0. && release_[i][4] > double(update->ntimestep);
+    MPI_Allreduce(&pending, &pending_all, 1, MPI_INT, MPI_SUM, world);
+    if (pending_all > 0 || next_reneighbor > 0)
+      error->all(FLERR, prefix() + "the timestep (" + std::to_string(update->dt) + ") differs from the one (" +
+                            std::to_string(restart_dt_) + ") of the run that wrote the restart file while the insertion "
+                            "goes on or particles are in the extrusion volume (keep the timestep until it is done)");
+  }
 }
 
 // LIGGGHTS's calc_insertion_properties: the period, the extrusion length, the counts.
@@ -195,6 +216,13 @@ void FixInsertStream::setup(int)
   if (setup_done_) return;
   setup_done_ = true;
   compute_insertion_properties();
+  if (resume_if_more_) {  // as LIGGGHTS: a finished insertion resumes after a restart if the total was raised
+    resume_if_more_ = false;
+    next_reneighbor = ninserted_ < ninsert_ ? first_next_ : 0;
+    if (next_reneighbor && comm->me == 0)
+      utils::logmesg(lmp, "INFO: Particle insertion {}: the total was raised after the restart, resuming at step {}\n",
+                     id, next_reneighbor);
+  }
   if (comm->me == 0)
     utils::logmesg(lmp, "INFO: Particle insertion {}: {:f} particles every {} steps - particle rate {:f}\n"
                         "      {} particles, extrusion length {:g}\n",
@@ -247,6 +275,7 @@ void FixInsertStream::pre_exchange()
   if (list.empty()) {
     if (comm->me == 0) error->warning(FLERR, "Particle insertion: Inserting no particle - check particle insertion settings");
     if (more) next_reneighbor += insert_every_;
+    else next_reneighbor = 0;  // done (LIGGGHTS leaves the past step, which never comes again)
     return;
   }
 
@@ -358,6 +387,70 @@ void *FixInsertStream::extract(const char *name, int &type)
   extract_radius_ = dist_->max_radius_of_type(type);
   type = 0;
   return &extract_radius_;
+}
+
+namespace {
+constexpr double kStreamRecord = 2404.;  // insert/stream, layout 1
+}
+
+void FixInsertStream::write_restart(FILE *fp)
+{
+  if (comm->me != 0) return;
+  insertion::RestartWriter w(kStreamRecord);
+  for (double x : {double(k_.seed), double(next_reneighbor), double(most_recent_), double(ninserted_), massinserted_,
+                   k_.exact_number ? 1. : 0., fraction_done_ ? 1. : 0., fraction_, update->dt})
+    w.put(x);
+  w.put(insert_rng_);
+  w.put(face_rng_);
+  w.write(fp);
+}
+
+// LIGGGHTS 3.8 restores the insert stream, the counts, the next step and the release data, but
+// restarts the face's stream from its seed and redraws the share of the extrusion volume in the
+// box (so its restarted run leaves the streams of an uninterrupted one); here everything continues.
+void FixInsertStream::restart(char *buf)
+{
+  try {
+    insertion::RestartReader r(buf, kStreamRecord);
+    const int seed = static_cast<int>(r.get());
+    if (seed != k_.seed)
+      throw std::invalid_argument("seed " + std::to_string(k_.seed) + " differs from the seed " + std::to_string(seed) +
+                                  " the restart file was written with (define the fix with the same seed as before "
+                                  "write_restart)");
+    const auto next = static_cast<bigint>(r.get());
+    most_recent_ = static_cast<bigint>(r.get());
+    ninserted_ = r.get_long();
+    massinserted_ = r.get();
+    k_.exact_number = r.get_bool();
+    fraction_done_ = r.get_bool();
+    fraction_ = r.get();
+    restart_dt_ = r.get();
+    r.get(insert_rng_);
+    r.get(face_rng_);
+    if (next != 0) next_reneighbor = next;
+    else resume_if_more_ = true;
+  } catch (const std::invalid_argument &e) {
+    error->all(FLERR, prefix() + "restart: " + e.what());
+  }
+}
+
+// Per-atom restart layout: [kRelease + 1, release state] (LAMMPS skips a fix's block by its size).
+int FixInsertStream::pack_restart(int i, double *buf)
+{
+  buf[0] = kRelease + 1;
+  std::copy(release_[i], release_[i] + kRelease, buf + 1);
+  return kRelease + 1;
+}
+
+void FixInsertStream::unpack_restart(int nlocal, int nth)
+{
+  const double *extra = atom->extra[nlocal];
+  int m = 0;
+  for (int k = 0; k < nth; k++) m += static_cast<int>(extra[m]);
+  if (static_cast<int>(extra[m]) != kRelease + 1)
+    error->one(FLERR, prefix() + "restart: the per-atom data of atom " + std::to_string(atom->tag[nlocal]) +
+                          " are not those of a fix insert/stream (written by another plugin version?)");
+  std::copy(extra + m + 1, extra + m + 1 + kRelease, release_[nlocal]);
 }
 
 double FixInsertStream::compute_vector(int i) { return i == 0 ? static_cast<double>(ninserted_) : massinserted_; }

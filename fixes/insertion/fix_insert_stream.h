@@ -28,6 +28,14 @@ class FixInsertStream : public LAMMPS_NS::Fix {
   void pre_exchange() override;
   void end_of_step() override;
   double compute_vector(int i) override;
+  // Restart: both streams, the share of the extrusion volume in the box, the next insertion step, the
+  // counts (global), and each atom's release state (per atom) (doc "Restart info").
+  void write_restart(FILE *fp) override;
+  void restart(char *buf) override;
+  int pack_restart(int i, double *buf) override;
+  void unpack_restart(int nlocal, int nth) override;
+  int size_restart(int) override { return kRelease + 1; }
+  int maxsize_restart() override { return kRelease + 1; }
   void *extract(const char *name, int &type) override;
 
   // the release state of each atom migrates and is sorted with it (LAMMPS per-atom callbacks)
@@ -58,6 +66,9 @@ class FixInsertStream : public LAMMPS_NS::Fix {
   double vol_lo_[3], vol_hi_[3];  // bounding box of the extrusion volume
   double fraction_ = 0.0;
   bool fraction_done_ = false, setup_done_ = false;
+  bool resume_if_more_ = false;      // restart of a finished insertion: go on if the total was raised
+  LAMMPS_NS::bigint first_next_ = 0; // next_reneighbor as the constructor set it
+  double restart_dt_ = 0.0;          // the timestep of the restart file's run (0: not restarted)
   int insert_every_ = -1;
   long ninsert_ = 0;
   double ninsert_per_ = 0.0;

@@ -10,6 +10,7 @@
 
 #include "fix_particle_template_sphere.h"
 #include "insertion_args.h"
+#include "restart_record.h"
 #include "seed_rule.h"
 
 #include <cstring>
@@ -57,10 +58,63 @@ FixParticleDistribution::FixParticleDistribution(LAMMPS *lmp, int narg, char **a
   } catch (const std::invalid_argument &e) {
     error->all(FLERR, prefix + e.what());
   }
+  restart_global = 1;
   rng_.reset(seed_);  // no rank offset: every rank draws the one-rank stream (rank-invariant insertion)
   dist_ = std::make_unique<insertion::DiscreteDistribution>(templates, weights, mass_based);
   if (dist_->normalised() && comm->me == 0)
     error->warning(FLERR, "particledistribution/discrete: sum of distribution weights != 1, normalizing distribution");
+}
+
+namespace {
+constexpr double kRecordKind = 2401.;  // particledistribution/discrete, layout 1
+}
+
+void FixParticleDistribution::write_restart(FILE *fp)
+{
+  if (comm->me != 0) return;
+  insertion::RestartWriter w(kRecordKind);
+  w.put(seed_);
+  w.put(static_cast<double>(dist_->templates().size()));
+  for (std::size_t i = 0; i < dist_->templates().size(); ++i) {
+    const auto &t = dist_->templates()[i];
+    for (double x : {double(t.type), t.radius, t.density, dist_->number_fractions()[i]}) w.put(x);
+  }
+  w.put(rng_);
+  w.write(fp);
+}
+
+// LIGGGHTS 3.8 restores the stream and ignores the seed and templates of the new definition; here a
+// changed one stops the run, since the saved stream belongs to the old distribution.
+void FixParticleDistribution::restart(char *buf)
+{
+  const std::string prefix = std::string("Fix ") + style + " (id " + id + ") restart: ";
+  const std::string advice = " (define it with the same seed, templates and weights as before write_restart)";
+  try {
+    insertion::RestartReader r(buf, kRecordKind);
+    const int seed = static_cast<int>(r.get());
+    if (seed != seed_)
+      throw std::invalid_argument("seed " + std::to_string(seed_) + " differs from the seed " + std::to_string(seed) +
+                                  " the restart file was written with");
+    const std::size_t n = static_cast<std::size_t>(r.get());
+    if (n != dist_->templates().size())
+      throw std::invalid_argument(std::to_string(dist_->templates().size()) + " templates, the restart file was written with " +
+                                  std::to_string(n));
+    // the templates first, then the weights (a changed template changes every number fraction)
+    std::vector<double> saved(4 * n);
+    for (double &x : saved) x = r.get();
+    const char *names[4] = {"atom_type", "radius", "density", "weight"};
+    for (int k = 0; k < 4; ++k)
+      for (std::size_t i = 0; i < n; ++i) {
+        const auto &t = dist_->templates()[i];
+        const double now[4] = {double(t.type), t.radius, t.density, dist_->number_fractions()[i]};
+        if (saved[4 * i + k] != now[k])
+          throw std::invalid_argument("template " + template_ids_[i] + ": its " + names[k] +
+                                      " differs from the one the restart file was written with");
+      }
+    r.get(rng_);
+  } catch (const std::invalid_argument &e) {
+    error->all(FLERR, prefix + e.what() + advice);
+  }
 }
 
 double FixParticleDistribution::max_radius_of_type(int type) const

@@ -17,6 +17,9 @@ class FixParticleDistribution : public LAMMPS_NS::Fix {
  public:
   FixParticleDistribution(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg);
   int setmask() override { return 0; }
+  // Restart: the stream's state, and the seed and templates it was drawn for (a changed one is an ERROR).
+  void write_restart(FILE *fp) override;
+  void restart(char *buf) override;
   const insertion::DiscreteDistribution &distribution() const { return *dist_; }
   insertion::ParkMiller &rng() { return rng_; }
   int seed() const { return seed_; }

@@ -1,6 +1,7 @@
 #include "park_miller.h"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace dembridge::insertion {
 
@@ -20,6 +21,15 @@ double ParkMiller::gaussian()
   second_ = v1 * fac;
   have_second_ = true;
   return v2 * fac;
+}
+
+void ParkMiller::restore(const std::array<double, 3> &s)
+{
+  if (!(s[0] >= 1. && s[0] < double(kM)) || s[0] != double(int(s[0])) || (s[1] != 0. && s[1] != 1.))
+    throw std::invalid_argument("the restart file holds no valid random stream state");
+  seed_ = int(s[0]);
+  have_second_ = s[1] == 1.;
+  second_ = s[2];
 }
 
 }  // namespace dembridge::insertion

@@ -3,6 +3,8 @@
 // LAMMPS-free; one object per stream.
 #pragma once
 
+#include <array>
+
 namespace dembridge::insertion {
 
 class ParkMiller {
@@ -22,6 +24,10 @@ class ParkMiller {
     return (1.0 / kM) * seed_;
   }
   double gaussian();  // caches the second value of each polar pair
+  // The whole state (seed, cached second Gaussian and its flag), for restart files; restore() throws
+  // std::invalid_argument on a state no stream can reach.
+  std::array<double, 3> saved() const { return {double(seed_), have_second_ ? 1.0 : 0.0, second_}; }
+  void restore(const std::array<double, 3> &s);
   void skip(long n)
   {
     for (long i = 0; i < n; ++i) uniform();

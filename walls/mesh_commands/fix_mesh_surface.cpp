@@ -486,30 +486,56 @@ FixMeshSurface *FixMeshSurface::find(LAMMPS *lmp, const std::string &mesh_id, co
 }
 
 // Restart: the mesh motion state (nodes and the incrementally updated vectors) so a restarted
-// moving mesh continues bit for bit.
+// moving mesh continues bit for bit, and the accumulated wear per triangle (as LIGGGHTS, whose wear
+// is a restart property of the mesh). Layout: [kLayout2, n, state, nwear, wear]; a file of the first
+// layout starts with n >= 3 and has no wear.
+namespace {
+constexpr int kLayout2 = -2;
+}
+
 void FixMeshSurface::write_restart(FILE *fp)
 {
   if (comm->me != 0) return;
   const std::vector<double> state = mesh_->save_state();  // whole state even on a distributed rank (never moved)
-  const int n = int(state.size());
-  const int size = int(sizeof(int) + state.size() * sizeof(double));
+  const int marker = kLayout2, n = int(state.size()), nwear = int(wear_total_.size());
+  const int size = int(3 * sizeof(int) + (state.size() + wear_total_.size()) * sizeof(double));
   fwrite(&size, sizeof(int), 1, fp);
+  fwrite(&marker, sizeof(int), 1, fp);
   fwrite(&n, sizeof(int), 1, fp);
   fwrite(state.data(), sizeof(double), state.size(), fp);
+  fwrite(&nwear, sizeof(int), 1, fp);
+  fwrite(wear_total_.data(), sizeof(double), wear_total_.size(), fp);
 }
 
 void FixMeshSurface::restart(char *buf)
 {
+  const std::string prefix = std::string("fix ") + style + " (id " + id + ") restart: ";
   int n = 0;
   std::memcpy(&n, buf, sizeof(int));
+  const bool layout2 = n == kLayout2;
+  if (layout2) std::memcpy(&n, buf + sizeof(int), sizeof(int));
+  const char *p = buf + (layout2 ? 2 : 1) * sizeof(int);
   std::vector<double> state(std::size_t(std::max(n, 0)));
-  std::memcpy(state.data(), buf + sizeof(int), state.size() * sizeof(double));
+  std::memcpy(state.data(), p, state.size() * sizeof(double));
+  p += state.size() * sizeof(double);
   try {
     mesh_->restore_state(state);
   } catch (const mesh::MeshError &e) {
-    error->all(FLERR, std::string("fix ") + style + " (id " + id + ") restart: " + e.what() +
-                          " (define the mesh with the same file and options as before write_restart)");
+    error->all(FLERR, prefix + e.what() + " (define the mesh with the same file and options as before write_restart)");
   }
+  int nwear = 0;
+  if (layout2) std::memcpy(&nwear, p, sizeof(int));
+  if (nwear == 0) return;  // no wear saved: a mesh that starts wearing now starts from zero
+  if (!wear_) {
+    if (comm->me == 0)
+      error->warning(FLERR, prefix + "the restart file holds the wear of this mesh, but 'wear finnie' is off now: the "
+                                     "wear is dropped");
+    return;
+  }
+  if (std::size_t(nwear) != wear_total_.size())
+    error->all(FLERR, prefix + "the restart file holds the wear of " + std::to_string(nwear) + " triangles, this mesh has " +
+                          std::to_string(wear_total_.size()) + " (define the mesh as before write_restart)");
+  std::memcpy(wear_total_.data(), p + sizeof(int), wear_total_.size() * sizeof(double));
 }
 
 double FixMeshSurface::memory_usage()

@@ -4,6 +4,7 @@
 #include "overlap_grid.h"
 #include "park_miller.h"
 #include "region_sampling.h"
+#include "restart_record.h"
 #include "seed_rule.h"
 #include "stream_insertion.h"
 
@@ -11,6 +12,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 
 using namespace dembridge::insertion;
@@ -38,6 +42,54 @@ TEST(ParkMiller, GaussianHasUnitVariance)
   }
   EXPECT_NEAR(s / n, 0.0, 0.01);
   EXPECT_NEAR(s2 / n, 1.0, 0.01);
+}
+
+// A stream restored from its saved state (taken between the two values of a Gaussian pair) draws what
+// the uninterrupted stream draws; a state no stream reaches is refused.
+TEST(ParkMiller, RestoredStreamContinuesTheSameDraws)
+{
+  using dembridge::insertion::ParkMiller;
+  ParkMiller a(32452843);
+  a.skip(17);
+  a.gaussian();
+  const auto saved = a.saved();
+  ParkMiller b(15485863);
+  b.restore(saved);
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_EQ(a.gaussian(), b.gaussian());
+    EXPECT_EQ(a.uniform(), b.uniform());
+  }
+  EXPECT_THROW(b.restore({0., 0., 0.}), std::invalid_argument);
+  EXPECT_THROW(b.restore({2147483647., 0., 0.}), std::invalid_argument);
+  EXPECT_THROW(b.restore({12.5, 0., 0.}), std::invalid_argument);
+}
+
+// The record round-trips through the bytes LAMMPS hands back; another kind or a short record is refused.
+TEST(RestartRecord, RoundTripAndRefusals)
+{
+  using namespace dembridge::insertion;
+  ParkMiller rng(49979687);
+  rng.gaussian();
+  RestartWriter w(7.);
+  w.put(3.25);
+  w.put(rng);
+  char *bytes = nullptr;
+  size_t len = 0;
+  FILE *f = open_memstream(&bytes, &len);
+  w.write(f);
+  std::fclose(f);
+  int size = 0;
+  std::memcpy(&size, bytes, sizeof(int));
+  ASSERT_EQ(size_t(size) + sizeof(int), len);
+  const char *buf = bytes + sizeof(int);
+  RestartReader r(buf, 7.);
+  EXPECT_EQ(r.get(), 3.25);
+  ParkMiller back;
+  r.get(back);
+  EXPECT_EQ(back.gaussian(), rng.gaussian());
+  EXPECT_THROW(r.get(), std::invalid_argument);
+  EXPECT_THROW(RestartReader(buf, 8.), std::invalid_argument);
+  std::free(bytes);
 }
 
 TEST(SeedRule, PrimesAbove10000Only)

@@ -21,6 +21,12 @@ run below, so it cancels.
                      timed by the same `profile yes` clock in a run of the same 10^4 step (same cache pollution, same
                      pinning), in the same rounds. fix share - floor share = what the fix itself adds to the step; a
                      floor >= 2 % would mean no implementation of the fix over this socket can meet P5 here
+  mapping          = `external structural mapping` (fix mbdyn ... mapping MESH points M, 10^3 and 10^4 mapped points, Unix
+                     socket): the peer sends positions and velocities of the M mapped points (1 + 48 M B), fix mbdyn
+                     puts the vertices of a flat mesh (the points' grid) there, recomputes the mesh and answers the
+                     forces at the points (1 + 24 M B) from the wall contacts of a sphere resting on every cell;
+                     exchange = coupled minus the same deck without the fix, against the bare client's round trip of
+                     the same messages (`mbdyn_bench_peer client --orientation none`), in the same rounds
 Wall and CPU time of LAMMPS are taken inside one process (the Python module): getrusage user + system and the clock
 around `run N pre no post no` after a warm-up run, so start-up, connection and the t0 exchange stay outside; the
 client's the same way around its loop (Linux keeps user + system exact; LAMMPS' "% CPU use" is tick-sampled). Rounds are
@@ -32,6 +38,7 @@ process (coupled runs of two lengths, differenced).
 
 usage: .venv/bin/python bench/run_mbdyn_exchange_bench.py [--build build] [--plugin PATH] [--rounds 3] [--steps 2000]
        [--big-steps 200] [--callgrind-steps 400] [--no-wall] [--no-callgrind] [--no-strace] [--library] [--pin]
+       [--mapping-points 1000,10000] [--mapping-steps 2000] [--no-mapping]
 --library also prints the protocol library's own ExchangeCost figures (unit_mbdyn, against mbdyn_testpeer; issue 6).
 --pin runs LAMMPS and the bare client on CPU 0 and the peer on CPU 1 (taskset), every run alike.
 """
@@ -98,6 +105,127 @@ def fix_deck(sock, natoms, steps, plugin, coupled, profile=False, floor=False):
     return "\n".join(lines) + "\n"
 
 
+MAP_H = 0.01  # mapped points on a grid of this spacing: the vertices of the deforming mesh
+
+
+def mapping_grid(points):
+    """(nx, ny) of the flat grid of `points` mapped points (nx * ny == points, nx >= ny, as square as it goes)."""
+    ny = max(d for d in range(1, int(points ** 0.5) + 1) if points % d == 0)
+    return points // ny, ny
+
+
+def mapping_stl(path, nx, ny):
+    """An ASCII STL of the nx x ny grid (two triangles per cell) in z = 0, vertex (i, j) at (i h, j h, 0): the
+    positions the fast peer sends with --grid nx --spacing h,h,0 (the same doubles, so every vertex matches)."""
+    v = lambda i, j: f"{i * MAP_H!r} {j * MAP_H!r} 0.0"  # noqa: E731
+    out = ["solid grid"]
+    for j in range(ny - 1):
+        for i in range(nx - 1):
+            for tri in (((i, j), (i + 1, j), (i + 1, j + 1)), ((i, j), (i + 1, j + 1), (i, j + 1))):
+                out += ["facet normal 0 0 1", "outer loop"] + [f"vertex {v(*c)}" for c in tri] + ["endloop", "endfacet"]
+    out.append("endsolid grid")
+    with open(path, "w") as fh:
+        fh.write("\n".join(out) + "\n")
+
+
+def mapping_shape(points):
+    """The fast peer's words for `external structural mapping` of `points` mapped points on the grid."""
+    nx, _ = mapping_grid(points)
+    return ["--nodes", str(points), "--orientation", "none", "--grid", str(nx), "--spacing", f"{MAP_H!r},{MAP_H!r},0"]
+
+
+def mapping_deck(sock, points, stl, plugin, coupled, profile=False):
+    """The deforming-mesh layout of `fix mbdyn ... mapping`: a flat mesh (mapping_stl) whose vertices are the
+    `points` mapped points, with a sphere resting on every cell (so the loads sent are the wall contacts' forces
+    split to the vertices, the work fix mbdyn does at every exchange); plain: the same deck without fix mbdyn
+    (the mesh stays where it is, the spheres see the same wall)."""
+    nx, ny = mapping_grid(points)
+    r = 0.4 * MAP_H
+    lines = [f"plugin load {plugin}", "units si", "atom_style sphere", "atom_modify map array", "boundary f f f",
+             "newton off", "comm_modify vel yes",
+             f"region box block {-MAP_H!r} {nx * MAP_H!r} {-MAP_H!r} {ny * MAP_H!r} -0.02 0.03 units box",
+             "create_box 1 box",
+             f"lattice sc {MAP_H!r} origin 0.5 0.5 0.4", f"region cells block 0 {(nx - 1) * MAP_H!r} 0 {(ny - 1) * MAP_H!r} "
+             f"{r - 1e-5!r} {r + 1e-5!r} units box", "create_atoms 1 region cells units box",
+             f"set type 1 diameter {2 * r!r}", "set type 1 density 2500",
+             "fix m1 all property/global youngsModulus peratomtype 5.e6",
+             "fix m2 all property/global poissonsRatio peratomtype 0.3",
+             "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5",
+             "fix m4 all property/global coefficientFriction peratomtypepair 1 0.4",
+             "pair_style gran model hertz tangential history", "pair_coeff * *", "neighbor 0.002 bin",
+             "timestep 1e-5", f"fix plate all mesh/surface/stress file {stl} type 1",
+             "fix walls all wall/gran model hertz tangential history mesh n_meshes 1 meshes plate",
+             "fix I all nve/sphere", "fix g all gravity 9.81 vector 0 0 -1"]
+    if coupled:
+        lines += [f"fix M all mbdyn path {sock} mapping plate points {points} orientation none connect_timeout 60 "
+                  "io_timeout 60" + (" profile yes" if profile else "")]
+    lines += ["thermo 0", "run 1"]
+    return "\n".join(lines) + "\n"
+
+
+def mapping_rounds(b, rounds, points_list, steps_for):
+    """Interleaved rounds over the Unix socket, per mapped-point count: the bare client of the same messages, the
+    plain deck and the coupled deck (profile yes); the order reversed every other round."""
+    rows = {}
+    stls = {}
+    for points in points_list:
+        stls[points] = os.path.join(b.work, f"grid{points}.stl")
+        mapping_stl(stls[points], *mapping_grid(points))
+    for rnd in range(rounds):
+        for points in (points_list if rnd % 2 == 0 else list(reversed(points_list))):
+            steps, shape = steps_for(points), mapping_shape(points)
+            client = ["--nodes", str(points), "--orientation", "none"]
+            jobs = [("bare", lambda: b.bare("unix", steps, shape, client)),
+                    ("plain", lambda: b.inproc("unix", lambda s: mapping_deck(s, points, stls[points], b.plugin, False),
+                                               steps, False, f"mapping {points}, plain")),
+                    ("coupled", lambda: b.inproc("unix", lambda s: mapping_deck(s, points, stls[points], b.plugin, True,
+                                                                                 True), steps, True,
+                                                 f"mapping {points}, coupled", shape, profile=True))]
+            if rnd % 2:
+                jobs.reverse()
+            got = {name: job() for name, job in jobs}
+            bare, plain, coupled = got["bare"], got["plain"], got["coupled"]
+            row = dict(steps=steps, bare=bare["wall"], bare_cpu=bare["cpu"], plain=plain["wall"], plain_cpu=plain["cpu"],
+                       coupled=coupled["wall"], coupled_cpu=coupled["cpu"], exchange=coupled["wall"] - plain["wall"],
+                       exchange_cpu=coupled["cpu"] - plain["cpu"], fix_cpu=coupled["fix_cpu"],
+                       fix_wall=coupled["fix_wall"], wait=coupled["wait"], receive_cpu=coupled["receive_cpu"],
+                       pose_cpu=coupled["pose_cpu"], loads_cpu=coupled["loads_cpu"],
+                       load=max(bare["load"], plain["load"], coupled["load"]))
+            row["ratio"] = row["exchange"] / row["bare"]
+            row["ratio_cpu"] = row["exchange_cpu"] / row["bare_cpu"]
+            rows.setdefault(points, []).append(row)
+            print(f"round {rnd} mapping {points} points (load up to {row['load']:.1f}): bare {row['bare']:.1f} us "
+                  f"(cpu {row['bare_cpu']:.1f}), plain {row['plain']:.1f} ({row['plain_cpu']:.1f}), coupled "
+                  f"{row['coupled']:.1f} ({row['coupled_cpu']:.1f}) us/step -> exchange {row['exchange']:.1f} us "
+                  f"(cpu {row['exchange_cpu']:.1f}) = {row['ratio']:.2f} x the bare round trip (cpu "
+                  f"{row['ratio_cpu']:.2f} x); fix's own cpu {row['fix_cpu']:.1f} us (receive {row['receive_cpu']:.1f}, "
+                  f"pose {row['pose_cpu']:.1f}, loads {row['loads_cpu']:.1f}), wall {row['fix_wall']:.1f} us + "
+                  f"{row['wait']:.1f} us waiting", flush=True)
+    return rows
+
+
+def mapping_report(b, rounds, points_list, steps_for):
+    rows = mapping_rounds(b, rounds, points_list, steps_for)
+    med = {p: {k: statistics.median(r[k] for r in rs) for k in rs[0]} for p, rs in rows.items()}
+    top = max(r["load"] for rs in rows.values() for r in rs)
+
+    def span(p, key):
+        return f"[{min(r[key] for r in rows[p]):.2f}, {max(r[key] for r in rows[p]):.2f}]"
+    table(f"external structural mapping over a Unix socket (fix mbdyn ... mapping: a flat mesh whose vertices are the "
+          f"mapped points, a sphere resting on every cell), medians of {rounds} interleaved rounds (range in brackets); "
+          f"highest 1-minute load before a run {top:.2f} on {os.cpu_count()} cores; exchange = coupled - plain deck, "
+          "per step (one exchange per step):",
+          ["mapped points", "message bytes in / out", "steps", "bare round trip us (cpu)", "plain us/step (cpu)",
+           "coupled us/step (cpu)", "exchange us/step (cpu)", "exchange / bare, wall", "exchange / bare, cpu",
+           "fix cpu us/step (receive, pose, loads)"],
+          [[f"{p}", f"{1 + 48 * p} / {1 + 24 * p}", f"{m['steps']:.0f}", f"{m['bare']:.1f} ({m['bare_cpu']:.1f})",
+            f"{m['plain']:.1f} ({m['plain_cpu']:.1f})", f"{m['coupled']:.1f} ({m['coupled_cpu']:.1f})",
+            f"{m['exchange']:.1f} ({m['exchange_cpu']:.1f})", f"{m['ratio']:.2f} {span(p, 'ratio')}",
+            f"{m['ratio_cpu']:.2f} {span(p, 'ratio_cpu')}",
+            f"{m['fix_cpu']:.1f} ({m['receive_cpu']:.1f}, {m['pose_cpu']:.1f}, {m['loads_cpu']:.1f})"]
+           for p, m in med.items()])
+
+
 class Bench:
     def __init__(self, build, plugin, work, pin=False):
         self.peer_exe = os.path.join(build, "coupling", "mbdyn_bench_peer")
@@ -112,10 +240,11 @@ class Bench:
         self.port += 1  # a fresh port each time: no TIME_WAIT clash
         return str(self.port), ["--port", str(self.port)]
 
-    def start_peer(self, where, messages):
-        p = subprocess.Popen(self.pin_peer + [self.peer_exe, "serve"] + where + ["--nodes", str(NODES), "--messages", str(messages),
-                             "--origin", ORIGIN, "--spacing", SPACING], stdout=subprocess.PIPE,
-                             stderr=subprocess.STDOUT, text=True)
+    def start_peer(self, where, messages, shape=None):
+        """The fast peer; shape: its --nodes/--origin/--spacing/... words (default: the 100 nodes of fix_deck)."""
+        shape = shape or ["--nodes", str(NODES), "--origin", ORIGIN, "--spacing", SPACING]
+        p = subprocess.Popen(self.pin_peer + [self.peer_exe, "serve"] + where + shape + ["--messages", str(messages)],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         line = p.stdout.readline()
         if "listening" not in line:
             raise RuntimeError("mbdyn_bench_peer: " + line + p.stdout.read())
@@ -127,13 +256,14 @@ class Bench:
         if p.returncode != 0:
             raise RuntimeError("mbdyn_bench_peer serve failed: " + out)
 
-    def bare(self, kind, steps):
-        """{wall, cpu: us per exchange, load} of the bare client."""
+    def bare(self, kind, steps, shape=None, client=None):
+        """{wall, cpu: us per exchange, load} of the bare client; shape, client: the peer's and the client's
+        shape words (default: the 100 nodes of fix_deck)."""
         load = load1()
         sock, where = self.where(kind)
-        p = self.start_peer(where, steps + 1)
-        r = subprocess.run(self.pin_lmp + [self.peer_exe, "client"] + where + ["--nodes", str(NODES)], capture_output=True, text=True,
-                           timeout=600)
+        p = self.start_peer(where, steps + 1, shape)
+        r = subprocess.run(self.pin_lmp + [self.peer_exe, "client"] + where + (client or ["--nodes", str(NODES)]),
+                           capture_output=True, text=True, timeout=600)
         self.finish_peer(p)
         m = re.search(r"(\d+) exchanges, wall ([\d.]+) us, cpu ([\d.]+) us", r.stdout)
         if r.returncode != 0 or not m or int(m.group(1)) != steps:
@@ -173,13 +303,19 @@ class Bench:
         involuntary context switches per step), load (1-minute average before the run) and, with profile, the
         fix's own figures from its `profile yes` line (see profile_figures); floor: fix mbdyn/floor instead (the bare
         exchange; its profile line is read the same way)."""
+        return self.inproc(kind, lambda sock: fix_deck(sock, natoms, steps, self.plugin, coupled, profile, floor),
+                           steps, coupled or floor, f"{kind}, {natoms}, coupled={coupled}", profile=profile)
+
+    def inproc(self, kind, make_deck, steps, peer, what, shape=None, profile=False):
+        """per_step's measurement of any deck: make_deck(socket) -> the deck's text (its last `run` line is
+        replaced by the warm-up and timed runs); peer: start the fast peer (shape: its shape words)."""
         warm = max(10, steps // 10)
         sock, where = self.where(kind)
         deck, log = os.path.join(self.work, "in.inproc"), os.path.join(self.work, "log.inproc")
         with open(deck, "w") as fh:
-            fh.write(fix_deck(sock, natoms, steps, self.plugin, coupled, profile, floor).rsplit("run ", 1)[0])
+            fh.write(make_deck(sock).rsplit("run ", 1)[0])
         load = load1()
-        p = self.start_peer(where, 1 + warm + steps) if coupled or floor else None
+        p = self.start_peer(where, 1 + warm + steps, shape) if peer else None
         r = subprocess.run(self.pin_lmp + [os.path.join(ROOT, ".venv", "bin", "python"), "-c", INPROC, deck, str(warm), str(steps),
                             log], cwd=self.work, capture_output=True, text=True, timeout=3600,
                            env=dict(os.environ, OMP_NUM_THREADS="1", LD_LIBRARY_PATH=os.path.join(ROOT, ".venv", "lib")))
@@ -187,14 +323,13 @@ class Bench:
             self.finish_peer(p)
         m = re.search(r"wall (\S+) cpu (\S+) user \S+ system \S+ switches (\d+) (\d+) ke (\S+)", r.stdout)
         if r.returncode != 0 or not m:
-            raise RuntimeError(f"in-process LAMMPS failed ({kind}, {natoms}, coupled={coupled}):\n{r.stdout[-2000:]}"
-                               f"{r.stderr[-2000:]}")
+            raise RuntimeError(f"in-process LAMMPS failed ({what}):\n{r.stdout[-2000:]}{r.stderr[-2000:]}")
         text = open(log).read()
         # The coupling must run as written: any warning of fix mbdyn (e.g. another fix integrating coupled atoms,
         # which an earlier version of this deck had) means it does not.
         warnings = [l for l in text.splitlines() if l.startswith("WARNING") and "mbdyn" in l.lower()]
         if warnings:
-            raise RuntimeError(f"unexpected warnings ({kind}, {natoms}, coupled={coupled}):\n" + "\n".join(warnings))
+            raise RuntimeError(f"unexpected warnings ({what}):\n" + "\n".join(warnings))
         row = dict(wall=1e6 * float(m.group(1)) / steps, cpu=1e6 * float(m.group(2)) / steps, ke=m.group(5),
                    nvcsw=int(m.group(3)) / steps, nivcsw=int(m.group(4)) / steps, load=load)
         if profile:
@@ -358,6 +493,11 @@ def main():
     ap.add_argument("--no-strace", action="store_true")
     ap.add_argument("--library", action="store_true", help="also the protocol library's ExchangeCost figures")
     ap.add_argument("--pin", action="store_true", help="LAMMPS and the bare client on CPU 0, the peer on CPU 1 (taskset)")
+    ap.add_argument("--mapping-points", default="1000,10000",
+                    help="mapped-point counts of the `external structural mapping` rows (comma-separated)")
+    ap.add_argument("--mapping-steps", type=int, default=2000, help="steps of the 10^3-point mapping runs (fewer for "
+                    "more points: steps x points / 1000, at least 200)")
+    ap.add_argument("--no-mapping", action="store_true")
     a = ap.parse_args()
     a.build = os.path.abspath(a.build)  # LAMMPS runs in a scratch directory
     plugin = os.path.abspath(a.plugin or os.path.join(a.build, "dembridgeplugin.so"))
@@ -368,6 +508,11 @@ def main():
     try:
         if a.library:
             library_figures(a.build)
+        if not a.no_mapping:
+            pts = [int(v) for v in a.mapping_points.split(",")]
+            print(f"\nexternal structural mapping, {pts} mapped points, Unix socket, {a.rounds} interleaved rounds:",
+                  flush=True)
+            mapping_report(b, a.rounds, pts, lambda p: max(200, a.mapping_steps * 1000 // p))
         if not a.no_callgrind:
             print(f"\ncallgrind, Ir of {TOGGLE} (load-independent); fix = inclusive Ir of fix mbdyn's post_integrate, "
                   "post_force and end_of_step in the coupled run:")

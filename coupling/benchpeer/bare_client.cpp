@@ -22,7 +22,7 @@ double cpu_seconds() {
 
 int run_bare_client(const Place& place, const BenchShape& shape) {
   try {
-    BareExchange x(place, shape.nodes, 60.0);
+    BareExchange x(place, shape.nodes, 60.0, shape.rotation());
     // The t0 exchange (LAMMPS: setup) is outside the timed loop, as in LAMMPS' loop time.
     x.send();
     const auto t0 = std::chrono::steady_clock::now();

@@ -10,9 +10,10 @@
 
 namespace dembridge::mbdyn::bench {
 
-BareExchange::BareExchange(const Place& place, std::uint32_t nodes, double connect_timeout_s) {
+BareExchange::BareExchange(const Place& place, std::uint32_t nodes, double connect_timeout_s, Rotation rotation) {
   NodalConfig config;
   config.num_points = nodes;
+  config.rotation = rotation;
   kin_.resize(1 + config.kinematics_payload_bytes());
   loads_.assign(1 + config.loads_payload_bytes(), 0);
   loads_[0] = 6;

@@ -8,15 +8,17 @@
 #include <vector>
 
 #include "blocking_socket.h"
+#include "wire_format.h"
 
 namespace dembridge::mbdyn::bench {
 
 class BareExchange {
  public:
-  // Connects (retrying up to connect_timeout_s), negotiates `nodes` points with an orientation
-  // matrix (no labels, accelerations or reference node), reads the t0 kinematics. Throws
-  // std::runtime_error.
-  BareExchange(const Place& place, std::uint32_t nodes, double connect_timeout_s);
+  // Connects (retrying up to connect_timeout_s), negotiates `nodes` points with `rotation` (an
+  // orientation matrix, or none for the messages of `external structural mapping`; no labels,
+  // accelerations or reference node), reads the t0 kinematics. Throws std::runtime_error.
+  BareExchange(const Place& place, std::uint32_t nodes, double connect_timeout_s,
+               Rotation rotation = Rotation::OrientationMatrix);
   ~BareExchange();
   BareExchange(const BareExchange&) = delete;
   BareExchange& operator=(const BareExchange&) = delete;

@@ -9,13 +9,23 @@
 #include <string>
 
 #include "blocking_socket.h"
+#include "wire_format.h"
 
 namespace dembridge::mbdyn::bench {
 
 struct BenchShape {
-  std::uint32_t nodes = 100;  // orientation matrix, no labels, accelerations or reference node
+  std::uint32_t nodes = 100;  // no labels, accelerations or reference node
+  // Orientation matrix (external structural), or none: the messages of `external structural
+  // mapping` (positions and velocities of the mapped points; loads = forces at them).
+  bool orientation_none = false;
   std::array<double, 3> origin{0, 0, 0};   // node k sits at origin + k * spacing, at rest
   std::array<double, 3> spacing{0.02, 0, 0};
+  // grid > 0: node k sits at origin + (k % grid) spacing_x ex + (k / grid) spacing_y ey instead
+  // (the vertices of a flat triangle mesh, for `fix mbdyn ... mapping`).
+  std::uint32_t grid = 0;
+
+  Rotation rotation() const { return orientation_none ? Rotation::None : Rotation::OrientationMatrix; }
+  std::array<double, 3> position(std::uint32_t k) const;
 };
 
 // MBDyn's side (`create, yes`): accepts one client, checks its negotiation, sends `messages`

@@ -12,16 +12,23 @@
 
 namespace dembridge::mbdyn::bench {
 
+std::array<double, 3> BenchShape::position(std::uint32_t k) const {
+  if (grid == 0) return {origin[0] + k * spacing[0], origin[1] + k * spacing[1], origin[2] + k * spacing[2]};
+  return {origin[0] + (k % grid) * spacing[0], origin[1] + (k / grid) * spacing[1], origin[2]};
+}
+
 namespace {
 
-// Command 6 then the kinematics payload of nodes at rest, identity orientation.
+// Command 6 then the kinematics payload of nodes at rest, identity orientation (or none).
 std::vector<std::uint8_t> kinematics_message(const BenchShape& shape) {
   testpeer::ElementShape element;
   element.nodes = shape.nodes;
-  element.orientation = testpeer::Orientation::Matrix;
+  element.orientation = shape.orientation_none ? testpeer::Orientation::None : testpeer::Orientation::Matrix;
   std::vector<testpeer::NodeState> nodes(shape.nodes);
-  for (std::uint32_t k = 0; k < shape.nodes; ++k)
-    for (int c = 0; c < 3; ++c) nodes[k].x[c] = shape.origin[c] + k * shape.spacing[c];
+  for (std::uint32_t k = 0; k < shape.nodes; ++k) {
+    const auto x = shape.position(k);
+    for (int c = 0; c < 3; ++c) nodes[k].x[c] = x[c];
+  }
   std::vector<std::uint8_t> msg{6};
   const auto payload = testpeer::encode_kinematics_payload(element, testpeer::NodeState{}, nodes);
   msg.insert(msg.end(), payload.begin(), payload.end());
@@ -33,6 +40,7 @@ std::vector<std::uint8_t> kinematics_message(const BenchShape& shape) {
 int run_fast_peer(const Place& place, const BenchShape& shape, long messages) {
   NodalConfig config;
   config.num_points = shape.nodes;
+  config.rotation = shape.rotation();
   try {
     const int fd = listen_and_accept(place, [&](int port) {
       if (port >= 0)

@@ -1,6 +1,9 @@
 // mbdyn_bench_peer: the fast peer and the bare client of bench/run_mbdyn_exchange_bench.py.
 //   mbdyn_bench_peer serve  (--path FILE | --port N) [--nodes N] [--messages K] [--origin x,y,z] [--spacing dx,dy,dz]
-//   mbdyn_bench_peer client (--path FILE | --port N) [--nodes N]
+//                           [--orientation matrix|none] [--grid NX]
+//   mbdyn_bench_peer client (--path FILE | --port N) [--nodes N] [--orientation matrix|none]
+// --orientation none: the messages of `external structural mapping` (positions and velocities of
+// the mapped points, forces back); --grid NX: the points on an NX-wide grid in the x-y plane.
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -15,7 +18,7 @@ namespace {
 [[noreturn]] void usage(const std::string& why) {
   std::fprintf(stderr,
                "mbdyn_bench_peer: %s\nusage: mbdyn_bench_peer serve|client (--path FILE | --port N) [--nodes N] "
-               "[--messages K] [--origin x,y,z] [--spacing dx,dy,dz]\n",
+               "[--messages K] [--origin x,y,z] [--spacing dx,dy,dz] [--orientation matrix|none] [--grid NX]\n",
                why.c_str());
   std::exit(64);
 }
@@ -46,6 +49,11 @@ int main(int argc, char** argv) {
     else if (a == "--messages") messages = std::atol(v.c_str());
     else if (a == "--origin") shape.origin = parse_v3(v);
     else if (a == "--spacing") shape.spacing = parse_v3(v);
+    else if (a == "--grid") shape.grid = static_cast<std::uint32_t>(std::atol(v.c_str()));
+    else if (a == "--orientation") {
+      if (v != "none" && v != "matrix") usage("expected --orientation matrix or none, got '" + v + "'");
+      shape.orientation_none = v == "none";
+    }
     else usage("unknown option " + a);
   }
   if (place.unix_path.empty() && place.tcp_port < 0) usage("expected --path or --port");

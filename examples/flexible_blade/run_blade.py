@@ -7,11 +7,14 @@ Usage: python run_blade.py [--plugin build/dembridgeplugin.so] [--testpeer build
                            [--steps 15000] [--every 500] [--out examples/flexible_blade/out] [--no-plot]
                            [--surface atoms|mesh]
 Outputs in --out: modes.txt (the test peer's t, q1 q2, q1' q2', q1'' q2'', p1 p2 per step),
-blade.png (tip deflection and generalized forces over time), blade.*.dump (the particles and the
+blade.png (tip deflection and generalized forces over time), snapshot.png (the particles coloured by speed on
+the bent blade, at its largest deflection), blade.*.dump (the particles and the
 blade atoms, OVITO), log.lammps, mbdyn.log; with --surface mesh (the blade's surface the STL mesh
 blade.stl instead of a wall of atoms) also surface_*.vtk (ParaView) and surface_*.stl, the deformed mesh."""
 import argparse
+import glob
 import os
+import re
 import subprocess
 import sys
 
@@ -19,6 +22,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "python"))
 import dembridge  # noqa: E402
+import numpy as np  # noqa: E402
 from dembridge.coupled_run import clear_stale_socket, finish_mbdyn_side  # noqa: E402
 
 DT = 2e-5  # MBDyn's time step = LAMMPS's timestep (external modal: one exchange per LAMMPS step)
@@ -99,6 +103,30 @@ def plot(out):
     fig.savefig(os.path.join(out, "blade.png"), dpi=120)
 
 
+def snapshot(out, surface):
+    """The dumped frame nearest the largest tip deflection, rendered: the falling spheres coloured by speed,
+    with the blade's surface (blade.stl with its vertices at the blade atoms, or the deformed mesh of that step with
+    --surface mesh)."""
+    from dembridge import render
+    t_low = min(read_modes(out), key=lambda r: r[1])[0]
+    steps = [int(re.search(r"(\d+)\.dump$", f).group(1)) for f in glob.glob(os.path.join(out, "blade.*.dump"))]
+    step = min(steps, key=lambda s: abs(s * DT - t_low))
+    atoms = dembridge.read_dump_atoms(os.path.join(out, f"blade.{step}.dump"))[0][1]
+    balls = render.spheres(atoms, atoms["type"] == 1)
+    if surface == "mesh":
+        blade = render.read_vtk_mesh(os.path.join(out, f"surface_{step}.vtk"))
+    else:  # blade.stl's triangles with each vertex at its blade atom (the one nearest it in the x-y plane)
+        blade = render.read_stl(os.path.join(HERE, "blade.stl"))
+        mine = atoms["type"] == 2
+        xyz = np.column_stack([atoms["x"][mine], atoms["y"][mine], atoms["z"][mine]])
+        flat = blade.reshape(-1, 3)
+        nearest = np.argmin(((flat[:, None, :2] - xyz[None, :, :2]) ** 2).sum(axis=2), axis=1)
+        blade = xyz[nearest].reshape(blade.shape)
+    meshes = [blade]
+    render.snapshot(os.path.join(out, "snapshot.png"), balls, meshes, elev=25, azim=-55,
+                    title=f"t = {step * DT:.3f} s: the blade bent down by the particles")
+
+
 if __name__ == "__main__":
     ap = argparse.ArgumentParser()
     ap.add_argument("--plugin", default=dembridge.plugin_path())
@@ -113,6 +141,7 @@ if __name__ == "__main__":
     out = run(a.plugin, a.testpeer, a.steps, a.every, a.out, a.surface)
     if not a.no_plot:
         plot(out)
+        snapshot(out, a.surface)
     rows = read_modes(out)
     low = min(rows, key=lambda r: r[1])
     print(f"run_blade: tip deflected down to {1e3 * low[1]:.2f} mm at t = {low[0]:.4f} s, "

@@ -3,7 +3,8 @@ plugin (the venv's lmp, optionally under mpiexec) and plots the mass flow rate o
 and the force on the funnel.
 
 Usage: python run_hopper.py [--np 2] [--settle 15000] [--run 40000] [--out examples/hopper/out]
-Outputs: out/log.lammps, out/hopper.dump and out/mesh_*.vtk (ParaView/OVITO), out/hopper.png.
+Outputs: out/log.lammps, out/hopper.dump and out/mesh_*.vtk (ParaView/OVITO), out/hopper.png (the plots),
+out/snapshot.png (the particles coloured by speed in the funnel and on the belt, 0.2 s after the outlet opens).
 """
 import argparse
 import os
@@ -81,6 +82,18 @@ def plot(rows, nsettle, png):
     fig.savefig(png, dpi=110)
 
 
+def snapshot(out, nsettle, png):
+    """The dumped frame nearest 0.2 s after the outlet opened (the last one of a shorter run), rendered with
+    the funnel and the belt."""
+    from dembridge import render
+    frames = dembridge.read_dump_atoms(os.path.join(out, "hopper.dump"))
+    step, atoms = min(frames, key=lambda f: abs(f[0] - (nsettle + 20000)))
+    meshes = [render.read_stl(os.path.join(out, name)) for name in ("funnel.stl", "belt.stl")]
+    t = (step - nsettle) * 1e-5
+    render.snapshot(png, render.spheres(atoms), meshes, elev=22, azim=-70,
+                    title=f"{'outlet opened %.2f s ago' % t if t >= 0 else 'settling'}: {len(atoms['id'])} particles")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--np", type=int, default=1)
@@ -90,7 +103,9 @@ def main():
     a = ap.parse_args()
     rows = run(os.path.abspath(a.out), a.np, a.settle, a.run)
     plot(rows, a.settle, os.path.join(a.out, "hopper.png"))
-    print(f"{summary(rows, a.settle)}; plot: {os.path.join(a.out, 'hopper.png')}")
+    snapshot(a.out, a.settle, os.path.join(a.out, "snapshot.png"))
+    print(f"{summary(rows, a.settle)}; plot: {os.path.join(a.out, 'hopper.png')}, snapshot: "
+          f"{os.path.join(a.out, 'snapshot.png')}")
 
 
 if __name__ == "__main__":

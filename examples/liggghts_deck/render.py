@@ -1,25 +1,16 @@
-"""Renders the last frame of a run of in.deck (post/funnel_*.vtk) with the funnel (meshes/funnel.stl),
-headless with matplotlib, to funnel.png beside this file (or the path given)."""
+"""Renders the first and the last frame of a run of in.deck (post/funnel_*.vtk) with the funnel
+(meshes/funnel.stl), the particles coloured by speed, headless with matplotlib (dembridge.render), to funnel.png
+beside this file (or the path given)."""
 import glob
 import os
 import re
 import sys
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
-
-from dembridge import read_vtk_particles  # noqa: E402
+from dembridge import plotting, read_vtk_particles, render
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-
-
-def triangles(stl):
-    v = [[float(x) for x in ln.split()[1:4]] for ln in open(stl) if ln.strip().startswith("vertex")]
-    return np.array(v).reshape(-1, 3, 3)
 
 
 def frames(folder):
@@ -28,22 +19,20 @@ def frames(folder):
 
 
 def main(folder=os.path.join(HERE, "post"), out=os.path.join(HERE, "funnel.png")):
-    (first, f0), (last, f1) = frames(folder)[0], frames(folder)[-1]
-    fig = plt.figure(figsize=(9, 4.6))
-    for k, (step, path) in enumerate(((first, f0), (last, f1))):
+    plt = plotting.pyplot()
+    funnel = render.read_stl(os.path.join(HERE, "meshes", "funnel.stl"))
+    floor = render.plane("z", -0.02, (-0.06, -0.06, 0), (0.06, 0.06, 0))  # the primitive zplane wall
+    fig, axes = plt.subplots(1, 2, figsize=(9, 4.6))
+    for ax, (step, path) in zip(axes, (frames(folder)[0], frames(folder)[-1])):
         p = read_vtk_particles(path)
-        ax = fig.add_subplot(1, 2, k + 1, projection="3d")
-        ax.add_collection3d(Poly3DCollection(triangles(os.path.join(HERE, "meshes", "funnel.stl")),
-                                             facecolor=(0.6, 0.6, 0.7, 0.25), edgecolor=(0.3, 0.3, 0.4, 0.6)))
         speed = np.linalg.norm(p["v"], axis=1)
-        sc = ax.scatter(*p["points"].T, s=(p["radius"] / 0.0025) ** 2 * 6, c=speed, cmap="viridis",
-                        vmin=0, vmax=1.2, depthshade=False)
-        ax.set_xlim(-0.06, 0.06), ax.set_ylim(-0.06, 0.06), ax.set_zlim(-0.02, 0.16)
-        ax.set_box_aspect((0.12, 0.12, 0.18))
-        ax.view_init(elev=12, azim=-60)
+        sm = render.draw(ax, (p["points"], p["radius"], speed), [funnel, floor], elev=12, azim=-60, vmax=1.2)
         ax.set_title(f"step {step}: {len(speed)} particles")
-        ax.set_xticks([]), ax.set_yticks([]), ax.set_zticks([])
-    fig.colorbar(sc, ax=fig.axes, shrink=0.6, label="speed (m/s)")
+    for get, put in (("get_xlim", "set_xlim"), ("get_ylim", "set_ylim")):  # one scale for both frames
+        lims = [getattr(ax, get)() for ax in axes]
+        for ax in axes:
+            getattr(ax, put)(min(l[0] for l in lims), max(l[1] for l in lims))
+    fig.colorbar(sm, ax=list(axes), shrink=0.6, label="speed (m/s)")
     fig.savefig(out, dpi=90)
     print(f"wrote {out}")
 

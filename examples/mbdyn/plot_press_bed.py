@@ -1,10 +1,16 @@
 """Case a: the plate's height (MBDyn's node) and the bed's vertical load on it (sent by fix mbdyn)
-against the plate's weight. usage: python plot_press_bed.py MBDYN_TRAJ LAMMPS_PRINT OUT.png"""
+against the plate's weight; and press_bed_snapshot.png beside OUT.png: the frame of press_bed.dump (in the current
+folder) 0.02 s after the plate's first contact with the bed, the particles coloured by speed with the walls.
+usage: python plot_press_bed.py MBDYN_TRAJ LAMMPS_PRINT OUT.png"""
+import os
 import sys
 
 import matplotlib
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt
+import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+from dembridge import read_dump_atoms, render  # noqa: E402
 
 mb = [[float(v) for v in l.split()] for l in open(sys.argv[1]) if l.strip() and not l.startswith("#")]
 lm = [[float(v) for v in l.split()] for l in open(sys.argv[2]) if l.strip() and not l.startswith("#")]
@@ -27,3 +33,14 @@ late = [r[2] for r in lm if r[0] - t0 > 0.15]
 if late:
     print(f"mean Fz over the last 0.05 s: {sum(late) / len(late):.3f} N (weight {W:.3f} N); "
           f"final z: MBDyn {mb[-1][3]:.5f} m")
+
+# the snapshot: 0.02 s after the bed first pushes on the plate (the last frame of a run without contact)
+t_hit = next((r[0] for r in lm if r[2] > 0.05 * W), None)
+frames = read_dump_atoms("press_bed.dump")
+step, atoms = (min(frames, key=lambda f: abs(f[0] * 1e-5 - (t_hit + 0.02))) if t_hit is not None else frames[-1])
+lo, hi = (-0.06, -0.06, 0.0), (0.06, 0.06, 0.1)
+walls = [render.plane("z", 0.0, lo, hi), render.plane("x", -0.06, lo, hi), render.plane("y", 0.06, lo, hi)]
+png = os.path.join(os.path.dirname(sys.argv[3]), "press_bed_snapshot.png")
+render.snapshot(png, render.spheres(atoms), walls, elev=20, azim=-60,
+                title=f"t = {step * 1e-5:.3f} s: the plate (MBDyn's body) pressing into the bed")
+print(f"{png}: step {step}")

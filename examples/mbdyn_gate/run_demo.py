@@ -8,13 +8,16 @@ Usage: python run_demo.py [--plugin build/dembridgeplugin.so] [--testpeer build/
 --steps N runs N LAMMPS steps (2e-5 s each; the MBDyn side runs N/10 steps of 2e-4 s): a smaller N
 gives a shorter demo (the tests run 500).
 Outputs in --out: gate.txt (t, opening angle, granular moment about the hinge, particles out),
-gate.png (the plots), particles.*.dump (OVITO), gate_*.vtk (ParaView), log.lammps, mbdyn.log.
+gate.png (the plots), snapshot.png (the particles coloured by speed with the gate and the walls, at the widest
+opening), particles.*.dump (OVITO), gate_*.vtk (ParaView), log.lammps, mbdyn.log.
 With a real MBDyn, --out also gets gate.mbd: this folder's gate.mbd with the socket path made
 absolute (MBDyn changes into its input file's folder and creates a relative socket there) and the
 final time of --steps; MBDyn's outputs are gate.mov, gate.out, ... Nothing is written here.
 """
 import argparse
+import glob
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -92,6 +95,21 @@ def plot(out):
     return rows
 
 
+def snapshot(out, rows):
+    """The dumped frame nearest the widest opening, rendered with the gate (its mesh of that step) and the
+    floor, back and far side walls (the near side wall is left out so the particles show)."""
+    from dembridge import render
+    t_peak, angle = max(rows, key=lambda r: r[1])[:2]
+    step = min((int(re.search(r"(\d+)\.dump$", f).group(1)) for f in glob.glob(os.path.join(out, "particles.*.dump"))),
+               key=lambda s: abs(s * LAMMPS_DT - t_peak))
+    atoms = dembridge.read_dump_atoms(os.path.join(out, f"particles.{step}.dump"))[0][1]
+    lo, hi = (-0.1, -0.04, 0.0), (0.2, 0.04, 0.1)
+    walls = [render.plane("z", 0.0, lo, hi), render.plane("x", -0.1, lo, hi), render.plane("y", 0.04, lo, hi)]
+    gate = render.read_vtk_mesh(os.path.join(out, f"gate_{step}.vtk"))
+    render.snapshot(os.path.join(out, "snapshot.png"), render.spheres(atoms), walls + [gate], elev=18, azim=-65,
+                    title=f"t = {step * LAMMPS_DT:.3f} s: the gate opened by {angle:.0f}° ({len(atoms['id'])} particles)")
+
+
 if __name__ == "__main__":
     ap = argparse.ArgumentParser()
     ap.add_argument("--plugin", default=dembridge.plugin_path())
@@ -119,6 +137,7 @@ if __name__ == "__main__":
     if mb.returncode not in (0, 2):
         sys.exit(f"run_demo: the MBDyn side failed (status {mb.returncode}); see {out}/mbdyn.log")
     rows = plot(out)
+    snapshot(out, rows)
     peak = max(rows, key=lambda r: r[1])
     print(f"run_demo: gate opened up to {peak[1]:.1f} deg at t = {peak[0]:.3f} s; {int(rows[-1][3])} particles "
-          f"passed it; plots in {out}/gate.png, dumps in {out}/")
+          f"passed it; plots in {out}/gate.png, snapshot {out}/snapshot.png, dumps in {out}/")

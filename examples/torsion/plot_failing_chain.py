@@ -1,11 +1,18 @@
 """Plot of in.failing_chain: link forces, state codes and the bottom body. Usage: python plot_failing_chain.py
-(reads chain_history.csv and chain_atoms.dump, writes failing_chain.png)."""
+(reads chain_history.csv and chain_atoms.dump, writes failing_chain.png and snapshot.png: the chain 0.1 s after
+link 6 failed, the bodies coloured by speed, the links drawn)."""
 import csv
+import os
+import sys
 
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "python"))
+from dembridge import read_dump_atoms, render  # noqa: E402
 
 rows = [{k: float(v) for k, v in r.items()} for r in csv.DictReader(open("chain_history.csv"))]
 t = [r["TIME"] for r in rows]
@@ -46,3 +53,12 @@ fig.tight_layout()
 fig.savefig("failing_chain.png", dpi=110)
 fail = next(r["TIME"] for r in rows if r["spr6_SS"] != -2)
 print(f"failing_chain.png: {len(rows)} rows; link 6 left state -2 at t = {fail:.3f} s")
+
+# snapshot: the chain 0.1 s after link 6 failed, links as lines
+frames = read_dump_atoms("chain_atoms.dump")
+step, atoms = min(frames, key=lambda f: abs(f[0] * 1e-3 - (fail + 0.1))) 
+x = np.column_stack([atoms["x"], atoms["y"], atoms["z"]])
+links = np.stack([np.vstack([[0.0, 0.0, 1.0], x[:-1]]), x], axis=1)  # spring 1 from a point in space, links 2-10
+render.snapshot("snapshot.png", render.spheres(atoms), lines=links, elev=10, azim=-80,
+                title=f"t = {step * 1e-3:.2f} s: link 6 failed, the rope holds the lower half")
+print("snapshot.png: step", step)

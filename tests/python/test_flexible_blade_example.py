@@ -47,6 +47,8 @@ def test_blade_example_loads_are_the_virtual_work_of_the_contact_forces():
     blade.run(plugin_path(), PEER, STEPS, EVERY, out)
     rows = blade.read_modes(out)
     assert len(rows) == STEPS + 1  # t0 and every step: the peer completed (exit 0 checked by run)
+    blade.snapshot(out, "atoms")  # the picture the README names
+    assert os.path.getsize(os.path.join(out, "snapshot.png")) > 10000
     worst_x = worst_p = worst_f = 0.0
     pmax = max(max(abs(r[7]), abs(r[8])) for r in rows)
     contact_steps = 0
@@ -88,6 +90,8 @@ def test_blade_example_mesh_surface_deforms_with_the_modes():
     blade.run(plugin_path(), PEER, STEPS, 500, out, surface="mesh")
     rows = blade.read_modes(out)
     assert len(rows) == STEPS + 1
+    blade.snapshot(out, "mesh")
+    assert os.path.getsize(os.path.join(out, "snapshot.png")) > 10000
     worst = 0.0
     for k in range(500, STEPS + 1, 500):
         q = rows[k - 1][1:3]

@@ -33,7 +33,7 @@ def test_gate_demo_runs_and_writes_plots():
     print(p.stdout.splitlines()[-1])
     assert max(r[1] for r in rows) > 2.0          # the gate opened by degrees
     assert max(r[2] for r in rows) > 0.01         # under a granular moment that opens it
-    for f in ("gate.png", "particles.0.dump", "gate_0.vtk"):
+    for f in ("gate.png", "snapshot.png", "particles.0.dump", "gate_0.vtk"):
         assert os.path.getsize(os.path.join(out, f)) > 0, f
     shutil.rmtree(out, ignore_errors=True)
 

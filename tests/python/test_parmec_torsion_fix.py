@@ -712,6 +712,7 @@ def test_examples(tmp_path, name, plot):
         tilt = [math.hypot(float(r["trq1_ROLL"]), float(r["trq1_PITCH"])) for r in rows]
         assert len(rows) == 600 and 0.1 < max(tilt) < 0.13 and min(tilt[300:]) > 0.08  # rides the cone limit
     else:
+        assert (tmp_path / "snapshot.png").stat().st_size > 10000  # the chain rendered after the failure
         rows = list(csv.DictReader(open(tmp_path / "chain_history.csv")))
         assert float(rows[0]["spr6_SS"]) == -2 and float(rows[-1]["spr6_SS"]) == -1
         assert float(rows[-1]["spr11_SS"]) == -3 and float(rows[-1]["spr11_SF"]) > 0

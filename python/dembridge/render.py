@@ -72,7 +72,7 @@ def read_vtk_mesh(path):
 
 
 def read_vtu_mesh(path, velocity="LINVEL"):
-    """(triangles T x 3 x 3, speed per triangle: the mean of its nodes' |velocity|) of a VTK XML .vtu file of
+    """(triangles T x 3 x 3, speed per triangle: the mean of its nodes' speeds) of a VTK XML .vtu file of
     triangles with ASCII data arrays (as the Parmec front end's MESH output)."""
     piece = ET.parse(path).getroot().find(".//Piece")
 

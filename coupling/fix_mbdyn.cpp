@@ -22,6 +22,7 @@
 #include "peer_session.h"
 #include "protocol_error.h"
 #include "style_registry.h"
+#include "tight_reevaluation.h"
 
 #include <mpi.h>
 
@@ -1175,28 +1176,13 @@ bool FixMBDyn::pose_is_message() const
 void FixMBDyn::reevaluate_forces(int vflag)
 {
   // Tight iterate: only the forces are re-evaluated, for the coupled atoms at the iterate's
-  // pose and every other atom where it is. update->setupflag = 1 makes the granular pair styles
-  // (LAMMPS' and dembridge's) skip their contact-history update, as in a setup force call, so
-  // the trial evaluations do not accumulate shear history. Fixes defined before fix mbdyn get
-  // their post_force again; later ones run once, after the iterations.
+  // pose and every other atom where it is (tight_reevaluation.h). Fixes defined before fix mbdyn
+  // get their post_force again; later ones run once, after the iterations.
   in_reeval_ = true;
-  const int saved = update->setupflag;
-  update->setupflag = 1;
-  comm->forward_comm();
-  const int nall = atom->nlocal + atom->nghost;
-  double **f = atom->f;
-  for (int i = 0; i < nall; ++i) f[i][0] = f[i][1] = f[i][2] = 0.0;
-  if (atom->torque_flag)
-    for (int i = 0; i < nall; ++i) atom->torque[i][0] = atom->torque[i][1] = atom->torque[i][2] = 0.0;
-  if (force->pair) force->pair->compute(0, 0);
-  if (atom->molecular && force->bond) force->bond->compute(0, 0);
-  if (force->newton) comm->reverse_comm();
-  for (MbdynMeshDriver &m : meshes_) m.restart_totals();  // before the wall fixes add again
-  if (deform_) deform_->restart_totals();
-  const int me = modify->find_fix(id);
-  for (int i = 0; i < me; ++i)
-    if (modify->fmask[i] & POST_FORCE) modify->fix[i]->post_force(vflag);
-  update->setupflag = saved;
+  reevaluate_forces_for_iterate(lmp, id, vflag, [this]() {
+    for (MbdynMeshDriver &m : meshes_) m.restart_totals();  // before the wall fixes add again
+    if (deform_) deform_->restart_totals();
+  });
   in_reeval_ = false;
 }
 

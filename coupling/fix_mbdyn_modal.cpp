@@ -15,12 +15,14 @@
 
 #include <algorithm>
 #include <climits>
+#include <cmath>
 #include <cstring>
 #include <exception>
 #include <optional>
 
 #include "protocol_error.h"
 #include "socket_transport.h"
+#include "tight_reevaluation.h"
 
 using namespace LAMMPS_NS;
 namespace mb = dembridge::mbdyn;
@@ -29,7 +31,8 @@ namespace dembridge {
 
 namespace {
 const char *kUsage = "fix mbdyn path FILE modal FEM-FILE [modes N [list m ...]] [origin LABEL] "
-                     "[type all|rigid|modal] [match D] [mesh MESH-ID] [coupling loose] [connect_timeout S] [io_timeout S]";
+                     "[type all|rigid|modal] [match D] [mesh MESH-ID] [coupling loose|tight] [tolerance T] [max_iterations M] "
+                     "[startup_exchange yes|no] [connect_timeout S] [io_timeout S]";
 }
 
 FixMBDynModal::FixMBDynModal(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
@@ -47,6 +50,7 @@ FixMBDynModal::FixMBDynModal(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
   }
   std::size_t modes = fem_.num_modes;
   std::vector<int> list;
+  std::string tight_keyword;  // the last keyword given that only tight coupling reads
   for (int i = 7; i < narg; ++i) {
     const std::string k = arg[i];
     auto value = [&](const char *what) -> const char * {
@@ -88,9 +92,27 @@ FixMBDynModal::FixMBDynModal(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
     } else if (k == "mesh") {
       mesh_id_ = value("the ID of a fix mesh/surface/stress");
     } else if (k == "coupling") {
-      const std::string c = value("loose");
-      if (c != "loose")
-        error->all(FLERR, "fix mbdyn modal: expected coupling loose (tight is not supported with modal yet), got '{}'", c);
+      const std::string c = value("loose or tight");
+      if (c != "loose" && c != "tight")
+        error->all(FLERR, "fix mbdyn modal: coupling: expected loose or tight, got '{}'", c);
+      tight_ = c == "tight";
+    } else if (k == "tolerance") {
+      tolerance_ = number_of("tolerance", value("a kinematics change"), "a kinematics change >= 0");
+      if (!(tolerance_ >= 0)) error->all(FLERR, "fix mbdyn modal: expected tolerance >= 0, got {}", tolerance_);
+      tight_keyword = k;
+    } else if (k == "max_iterations") {
+      const std::string w = value("the most exchanges per MBDyn step");
+      const std::optional<long long> n = args::integer(lmp, w);
+      if (!n || *n < 1 || *n > INT_MAX)
+        error->all(FLERR, "fix mbdyn modal: max_iterations: expected an integer >= 1, got '{}'", w);
+      max_iterations_ = int(*n);
+      tight_keyword = k;
+    } else if (k == "startup_exchange") {
+      const std::string w = value("yes or no");
+      if (w != "yes" && w != "no")
+        error->all(FLERR, "fix mbdyn modal: startup_exchange: expected yes or no, got '{}'", w);
+      startup_exchange_ = w == "yes";
+      tight_keyword = k;
     } else if (k == "connect_timeout") {
       connect_timeout_ = number_of("connect_timeout", value("seconds"), "seconds");
     } else if (k == "io_timeout") {
@@ -99,6 +121,9 @@ FixMBDynModal::FixMBDynModal(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
       error->all(FLERR, "fix mbdyn modal: unknown keyword '{}', expected {}", k, kUsage);
     }
   }
+  if (!tight_ && !tight_keyword.empty())
+    error->all(FLERR, "fix mbdyn modal: '{}' is for coupling tight (loose coupling answers each message once)",
+               tight_keyword);
   try {
     fem_ = mb::select_modes(fem_, modes, list);
     if (!origin_.empty()) fem_.node_index(origin_);
@@ -166,13 +191,16 @@ bool FixMBDynModal::receive()
                                      config_.describe() + "; check `type` and the modal joint's mode count");
       }
       std::uint8_t c = 0;
-      transport_->read_exact(&c, 1, io_timeout_, "a kinematics command (6 or 5)");
+      const int data_cmd = tight_ ? 2 : 6;
+      transport_->read_exact(&c, 1, io_timeout_, tight_ ? "a kinematics command (2 or 5)" : "a kinematics command (6 or 5)");
       cmd = c;
-      if (cmd == 6) {
+      if (cmd == data_cmd) {
         transport_->read_exact(buf_.data(), n, io_timeout_, "the external modal kinematics");
       } else if (cmd != 5) {
-        throw mb::MalformedMessageError("expected command 6 (loose kinematics) or 5 (end) from MBDyn, received " +
-                                        mb::command_name(c) + (cmd == 2 ? "; MBDyn's coupling is tight, this fix is loose" : ""));
+        const char *hint = cmd == 2 ? "; MBDyn's coupling is tight, this fix is loose (coupling tight)"
+                           : cmd == 6 ? "; MBDyn's coupling is loose, this fix is tight (coupling loose)" : "";
+        throw mb::MalformedMessageError(std::string("expected command ") + (tight_ ? "2 (tight" : "6 (loose") +
+                                        " kinematics) or 5 (end) from MBDyn, received " + mb::command_name(c) + hint);
       }
     } catch (const std::exception &e) {
       err = e.what();
@@ -185,7 +213,8 @@ bool FixMBDynModal::receive()
   if (cmd == 5) return false;
   MPI_Bcast(buf_.data(), static_cast<int>(n), MPI_BYTE, 0, world);
   try {
-    kin_ = mb::decode_modal_kinematics(config_, mb::Command::RegularDataAndGotoNextStep, buf_.data(), n);
+    kin_ = mb::decode_modal_kinematics(
+        config_, tight_ ? mb::Command::RegularData : mb::Command::RegularDataAndGotoNextStep, buf_.data(), n);
   } catch (const std::exception &e) {
     fail(e.what());
   }
@@ -248,6 +277,14 @@ void FixMBDynModal::bind_atoms()
     }
     fail(why + " (atoms must sit on FEM nodes; see 'match')");
   }
+  if (first_is_step1_) {
+    // The pose they were matched at is step 1's prediction, not the atoms' t0 pose: each atom is
+    // carried from its FEM node, not from where it was matched.
+    std::array<double, 3> origin_xyz{0, 0, 0};
+    if (!origin_.empty()) origin_xyz = fem_.node_xyz[fem_.node_index(origin_)];
+    for (std::size_t p = 0; p < body_.rest.size(); ++p)
+      for (int c = 0; c < 3; ++c) body_.rest[p][c] = fem_.node_xyz[body_.fem_node[p]][c] - origin_xyz[c];
+  }
   bound_ = true;
 }
 
@@ -287,7 +324,7 @@ void FixMBDynModal::place_atoms()
   }
 }
 
-void FixMBDynModal::answer()
+void FixMBDynModal::answer(bool converged)
 {
   std::vector<double> f;
   if (deform_) {  // the wall contacts split to the vertices (the FEM nodes), summed in a rank-free order
@@ -315,7 +352,8 @@ void FixMBDynModal::answer()
   std::string err;
   if (comm->me == 0) {
     try {
-      const auto bytes = mb::encode_modal_loads(config_, mb::Command::RegularDataAndGotoNextStep, last_);
+      const auto bytes = mb::encode_modal_loads(
+          config_, converged ? mb::Command::RegularDataAndGotoNextStep : mb::Command::RegularData, last_);
       transport_->write_all(bytes.data(), bytes.size(), io_timeout_, "the external modal loads");
     } catch (const std::exception &e) {
       err = e.what();
@@ -332,18 +370,66 @@ void FixMBDynModal::setup_pre_exchange()
     ended_ = true;
     return;
   }
+  // Tight without the start-up exchange: MBDyn's initial derivatives did not iterate, so this
+  // first message is already step 1's prediction, answered by the first step as an iterate.
+  first_is_step1_ = tight_ && !startup_exchange_;
   if (!bound_) bind_atoms();
   place_atoms();
 }
 
 void FixMBDynModal::setup(int)
 {
-  if (!ended_ && messages_ == 1) answer();  // the t0 exchange
+  if (ended_ || messages_ != 1 || first_is_step1_) return;
+  answer(true);  // the t0 exchange feeds MBDyn's initial derivatives (6 also in tight coupling)
+}
+
+// The largest change of any value of the message (x, R, v, omega, q, qdot) from a to b.
+double FixMBDynModal::kinematics_change(const mb::ModalKinematics &a, const mb::ModalKinematics &b)
+{
+  double d = 0;
+  auto take = [&d](const double *p, const double *q, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) d = std::max(d, std::fabs(p[i] - q[i]));
+  };
+  take(a.x.data(), b.x.data(), 3);
+  take(a.R.data(), b.R.data(), 9);
+  take(a.v.data(), b.v.data(), 3);
+  take(a.omega.data(), b.omega.data(), 3);
+  take(a.q.data(), b.q.data(), std::min(a.q.size(), b.q.size()));
+  take(a.qdot.data(), b.qdot.data(), std::min(a.qdot.size(), b.qdot.size()));
+  return d;
+}
+
+// MBDyn's iterates of one step: each is answered with 2 until two consecutive ones differ by at
+// most `tolerance` in every value (or at the max_iterations-th exchange), which is answered 6.
+void FixMBDynModal::iterate_tight(int vflag)
+{
+  for (int it = 0;; ++it) {
+    const int converged = it + 1 >= max_iterations_ || (it > 0 && last_change_ <= tolerance_);
+    answer(converged != 0);  // every rank holds the same kinematics: the same decision
+    if (converged) return;
+    const mb::ModalKinematics before = kin_;
+    if (!receive()) {
+      ended_ = true;
+      if (comm->me == 0)
+        error->warning(FLERR, "fix mbdyn modal: MBDyn ended the simulation within a step; the carried atoms stay where they are");
+      return;
+    }
+    last_change_ = kinematics_change(before, kin_);
+    place_atoms();
+    reevaluate_forces_for_iterate(lmp, id, vflag, [this]() {
+      if (deform_) deform_->restart_totals();
+    });
+  }
 }
 
 void FixMBDynModal::post_integrate()
 {
   if (ended_) return;
+  if (first_is_step1_) {  // the message received at the set-up is this step's prediction
+    first_is_step1_ = false;
+    place_atoms();
+    return;
+  }
   if (!receive()) {
     ended_ = true;
     if (comm->me == 0) error->warning(FLERR, "fix mbdyn modal: MBDyn ended the simulation; the carried atoms stay where they are");
@@ -352,9 +438,14 @@ void FixMBDynModal::post_integrate()
   place_atoms();
 }
 
-void FixMBDynModal::post_force(int)
+void FixMBDynModal::post_force(int vflag)
 {
-  if (!ended_ && update->setupflag == 0) answer();
+  if (ended_ || update->setupflag != 0) return;
+  if (!tight_) {
+    answer(true);
+    return;
+  }
+  iterate_tight(vflag);
 }
 
 double FixMBDynModal::compute_vector(int i)

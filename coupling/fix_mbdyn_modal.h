@@ -1,6 +1,6 @@
 // fix mbdyn ... modal: LAMMPS as the peer of MBDyn's `external modal` force. The fix's atoms are
 // carried by the modal node and deformed by the modes of its modal joint (FEM file), and answer
-// the node's force and moment and one generalized force per mode. Loose coupling. Created by
+// the node's force and moment and one generalized force per mode. Loose or tight coupling. Created by
 // fix mbdyn when its arguments name `modal` (fix_mbdyn.cpp). Syntax: doc/fix_mbdyn.md.
 #pragma once
 
@@ -42,7 +42,9 @@ class FixMBDynModal : public LAMMPS_NS::Fix {
   bool receive();  // false: MBDyn ended the simulation
   void place_atoms();
   void bind_mesh();    // mesh MESH-ID: its vertices matched to the FEM nodes at the first pose
-  void answer();
+  void answer(bool converged);  // converged: command 6 (loose: always), else 2
+  void iterate_tight(int vflag);
+  static double kinematics_change(const mbdyn::ModalKinematics &a, const mbdyn::ModalKinematics &b);
 
   // configuration
   std::string path_;
@@ -53,6 +55,9 @@ class FixMBDynModal : public LAMMPS_NS::Fix {
   std::string mesh_id_;                   // mesh MESH-ID: the FEM nodes drive its vertices
   std::unique_ptr<MbdynDeformDriver> deform_;
   double connect_timeout_ = 60, io_timeout_ = 300;
+  bool tight_ = false, startup_exchange_ = true;
+  double tolerance_ = 1e-9;  // tight: converged when no value of the message changed by more
+  int max_iterations_ = 10;  // tight: at most this many exchanges per MBDyn step
 
   std::unique_ptr<mbdyn::SocketTransport> transport_;  // rank 0
   mbdyn::ModalBody body_;
@@ -63,6 +68,8 @@ class FixMBDynModal : public LAMMPS_NS::Fix {
   std::vector<unsigned char> buf_;
   mbdyn::ModalLoads last_;
   bool bound_ = false, mesh_bound_ = false, ended_ = false, connected_ = false;
+  bool first_is_step1_ = false;  // tight, no start-up exchange: the set-up's message is step 1's
+  double last_change_ = 0;       // tight: change of the last iterate from the one before
   long long messages_ = 0;
 };
 

@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "mbdyn_test_peer.h"
+#include "free_bodies_peer.h"
 #include "modal_peer.h"
 
 using namespace dembridge::mbdyn::testpeer;
@@ -50,6 +51,13 @@ const char* kUsage =
     "                           MBDyn's `external modal, type, modal` on a clamped modal node instead:\n"
     "                           M q'' + C q' + K q = p per mode (--path, --steps, --dt, --trajectory:\n"
     "                           t, then q, q', q'', p per mode)\n"
+    "  --reference-body m,J,x,y,z,vx,vy,vz,wx,wy,wz  --point-body m,J,x,...,wz (repeat per point)\n"
+    "  [--reference-label L (10)] [--point-labels l1,l2,...]\n"
+    "                           `external structural` with `reference node` on free rigid bodies instead\n"
+    "                           (MBDyn dynamic nodes with a body of isotropic inertia J each; labels, sorted\n"
+    "                           no, orientation matrix, use/rotate reference node forces yes, loose; with\n"
+    "                           --path, --steps, --dt, --gravity, --trajectory: t, then per body, reference\n"
+    "                           first, x R(row by row) v w)\n"
     "  --kinematics-log FILE    one line per kinematics message: index, command, then per point\n"
     "                           x(3) R(9, row by row) v(3) w(3), global frame\n";
 
@@ -130,6 +138,52 @@ int run_modal(const PeerSetup& s, ModalPeerSetup m, const std::string& trajector
   return out.exit_status;
 }
 
+FreeBody parse_body(const std::string& option, const std::string& text) {
+  const std::vector<double> v = parse_list(option, text);
+  if (v.size() != 11 || !(v[0] > 0) || !(v[1] > 0))
+    usage_error(option + " expects m,J,x,y,z,vx,vy,vz,wx,wy,wz with m, J > 0, got '" + text + "'");
+  FreeBody b;
+  b.mass = v[0];
+  b.inertia = v[1];
+  for (int k = 0; k < 3; ++k) {
+    b.x[k] = v[2 + k];
+    b.v[k] = v[5 + k];
+    b.w[k] = v[8 + k];
+  }
+  return b;
+}
+
+int run_free_bodies(const PeerSetup& s, FreeBodiesPeerSetup f, const std::vector<double>& labels,
+                    const std::string& trajectory_file) {
+  if (f.points.empty()) usage_error("--reference-body needs at least one --point-body");
+  if (s.place.unix_path.empty()) usage_error("the free-bodies peer needs --path");
+  if (s.coupling != CouplingMode::Loose) usage_error("the free-bodies peer is loose only");
+  if (labels.empty())
+    for (std::size_t i = 0; i < f.points.size(); ++i) f.labels.push_back(static_cast<std::uint32_t>(20 + 10 * i));
+  for (double l : labels) {
+    if (!(l >= 0 && l <= 4294967295.0) || l != std::floor(l)) usage_error("--point-labels expects unsigned integers");
+    f.labels.push_back(static_cast<std::uint32_t>(l));
+  }
+  if (f.labels.size() != f.points.size()) usage_error("--point-labels needs one label per --point-body");
+  f.place = s.place;
+  f.steps = s.steps;
+  f.dt = s.dt;
+  f.gravity = s.model.gravity;
+  f.derivatives_coefficient = s.model.derivatives_coefficient;
+  f.tolerance = s.tolerance;
+  f.accept_timeout_s = s.accept_timeout_s;
+  f.io_timeout_s = s.io_timeout_s;
+  f.trajectory = trajectory_file;
+  const std::string path = f.place.unix_path;
+  f.on_listening = [path]() {
+    std::cout << "mbdyn_testpeer: listening on unix socket " << path << " (free bodies, reference node)" << std::endl;
+  };
+  const FreeBodiesPeerOutcome out = run_free_bodies_test_peer(f);
+  std::cout << "mbdyn_testpeer: exit " << out.exit_status << ": " << out.log << " (" << out.kinematics_sent
+            << " kinematics messages)" << std::endl;
+  return out.exit_status;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -141,6 +195,9 @@ int main(int argc, char** argv) {
   std::vector<std::pair<double, double>> spin0;
   double tilt = -1e300;
   ModalPeerSetup modal;
+  FreeBodiesPeerSetup free_bodies;
+  bool have_reference_body = false;
+  std::vector<double> point_labels;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -225,6 +282,13 @@ int main(int argc, char** argv) {
     else if (a == "--modal-damping") modal.damping = parse_list(a, value());
     else if (a == "--modal-q0") modal.q0 = parse_list(a, value());
     else if (a == "--kinematics-log") s.kinematics_log = value();
+    else if (a == "--reference-body") {
+      free_bodies.reference = parse_body(a, value());
+      have_reference_body = true;
+    } else if (a == "--point-body") free_bodies.points.push_back(parse_body(a, value()));
+    else if (a == "--reference-label")
+      free_bodies.reference_label = static_cast<std::uint32_t>(parse_integer(a, value(), 0, 4294967295L));
+    else if (a == "--point-labels") point_labels = parse_list(a, value());
     else if (a == "--file-in") s.files.in_path = value();
     else if (a == "--file-out") s.files.out_path = value();
     else if (a == "--file-precision") s.files.precision = static_cast<int>(parse_integer(a, value(), 1, 17));
@@ -234,6 +298,10 @@ int main(int argc, char** argv) {
     } else usage_error("unknown option " + a);
   }
   if (!modal.mass.empty() || !modal.stiffness.empty()) return run_modal(s, modal, trajectory_file);
+  if (have_reference_body || !free_bodies.points.empty()) {
+    if (!have_reference_body) usage_error("--point-body needs --reference-body");
+    return run_free_bodies(s, free_bodies, point_labels, trajectory_file);
+  }
   const bool files = !s.files.in_path.empty() || !s.files.out_path.empty();
   if (files && (s.files.in_path.empty() || s.files.out_path.empty())) usage_error("give both --file-in and --file-out");
   if (files && (s.coupling != CouplingMode::Loose || s.shape.reference_node || s.shape.accelerations ||

@@ -162,6 +162,74 @@ def test_atoms_follow_the_recorded_modal_node_and_modes(sockdir, transcript, typ
     print(f"type {type_}: max position error {worst_x:.2e}, max load error {worst_load:.2e}")
 
 
+K_SELF, GAMMA = 5.0, 0.7  # the tight deck's fix spring/self and fix viscous
+
+
+def closed_form_loads(kin):
+    """F, M, p of f_i = -K (x_i - X_i) - gamma v_i on the three atoms placed by the message kin
+    (x_i = x_n + R (X_i + d_i), v_i = v_n + w x (x_i - x_n) + R d'_i, d_i = q1 Phi1 + q2 Phi2)."""
+    xn, Rc, vn, w, q, qd = kin[0:3], kin[3:12], kin[12:15], kin[15:18], kin[18:20], kin[20:22]
+    R = [[Rc[0], Rc[3], Rc[6]], [Rc[1], Rc[4], Rc[7]], [Rc[2], Rc[5], Rc[8]]]
+    rot = lambda d: [sum(R[a][b] * d[b] for b in range(3)) for a in range(3)]  # noqa: E731
+    F, M, p = [0.0] * 3, [0.0] * 3, [0.0, 0.0]
+    for i in range(3):
+        X = (0.5 * i, 0.0, 0.0)
+        arm = rot((X[0], q[1] * W[i], q[0] * W[i]))
+        x = [xn[a] + arm[a] for a in range(3)]
+        dv = rot((0.0, qd[1] * W[i], qd[0] * W[i]))
+        wx = (w[1] * arm[2] - w[2] * arm[1], w[2] * arm[0] - w[0] * arm[2], w[0] * arm[1] - w[1] * arm[0])
+        v = [vn[a] + wx[a] + dv[a] for a in range(3)]
+        f = [-K_SELF * (x[a] - X[a]) - GAMMA * v[a] for a in range(3)]
+        m = (arm[1] * f[2] - arm[2] * f[1], arm[2] * f[0] - arm[0] * f[2], arm[0] * f[1] - arm[1] * f[0])
+        local = [sum(R[b][a] * f[b] for b in range(3)) for a in range(3)]
+        for a in range(3):
+            F[a] += f[a]
+            M[a] += m[a]
+        p[0] += W[i] * local[2]
+        p[1] += W[i] * local[1]
+    return F + M + p
+
+
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.two_cores)])
+def test_tight_answers_every_recorded_iterate(sockdir, nprocs):
+    """type all, tight: MBDyn's step-1 prediction comes first (no start-up exchange in this
+    model); every iterate is answered with the loads re-evaluated at its pose, 2 until two
+    consecutive iterates differ by at most 1e-10 in every value (the recording peer's test), then 6."""
+    forces = f"fix tether all spring/self {K_SELF}\nfix damp all viscous {GAMMA}"
+    rows = read("transcript_tight.csv")
+    steps = sum(1 for d, c, _ in rows if d == "peer->mbdyn" and c == 6)
+    sock, dump = os.path.join(sockdir, "m.sock"), os.path.join(sockdir, "d.txt")
+    mbdyn = RecordedModalMbdyn(sock, rows, 8)
+    deck = DECK.format(forces=forces, sock=sock, fem=FEM, type="all", dump=dump, steps=steps).replace(
+        "type all connect_timeout", "type all coupling tight tolerance 1e-10 max_iterations 15 startup_exchange no "
+        "match 1e-3 connect_timeout")  # matched at step 1's predicted pose (T v0 = 2e-4 from t0's)
+    rc, out, _ = run_lammps(deck, sockdir, nprocs=nprocs, timeout=120)
+    mbdyn.join(60)
+    assert mbdyn.error is None, (mbdyn.error, error_line(out) or out[-3000:])
+    assert rc == 0, out[-3000:]
+    assert mbdyn.request == (7, 5, 2)
+    kins = [v for d, c, v in rows if d == "mbdyn->peer" and c == 2]
+    want = recorded_answers(rows)
+    assert len(mbdyn.answers) == len(kins) == len(want) == 194
+    assert [c for c, _ in mbdyn.answers] == [c for c, _ in want]  # the recorded 2 / 6 sequence
+    expect = [closed_form_loads(k) for k in kins]
+    fields = [(0, 3), (3, 6), (6, 7), (7, 8)]  # F, M, p1, p2
+    worst = 0.0
+    for a, b in fields:
+        scale = max(max(abs(v) for v in e[a:b]) for e in expect)
+        dev = max(max(abs(g - e) for g, e in zip(got[a:b], e[a:b])) for (_, got), e in zip(mbdyn.answers, expect))
+        worst = max(worst, dev / scale)
+
+    # each iterate's own pose: loads one iterate late would be off by K and gamma times the
+    # iterates' motion
+    # (the largest change of a load between two iterates of one step, relative to its field)
+    stale = max(max(abs(expect[j][c] - expect[j - 1][c]) for c in range(8)) / max(abs(v) for e in expect for v in e)
+                for j in range(1, len(expect)) if want[j - 1][0] == 2)
+    print(f"type all tight: {len(kins)} iterates, recorded command sequence; loads vs closed form "
+          f"{worst:.2e} of each field's largest (loads one iterate late: up to {stale:.1e} of the largest load)")
+    assert worst <= 1e-12, worst
+
+
 BAD = """plugin load ${{plugin}}
 units si
 atom_style atomic
@@ -180,7 +248,11 @@ run 1
     ("body.fem", 0.0, "modes 2 list 2 2", "mode 2 listed twice"),
     ("body.fem", 0.0, "type both", "expected all, rigid or modal after type, got 'both'"),
     ("body.fem", 0.0, "origin 9", "no FEM node labelled '9'"),
-    ("body.fem", 0.0, "coupling tight", "expected coupling loose"),
+    ("body.fem", 0.0, "coupling medium", "coupling: expected loose or tight, got 'medium'"),
+    ("body.fem", 0.0, "tolerance 1e-10", "'tolerance' is for coupling tight"),
+    ("body.fem", 0.0, "coupling tight max_iterations 0", "max_iterations: expected an integer >= 1, got '0'"),
+    ("body.fem", 0.0, "coupling tight tolerance -1", "expected tolerance >= 0, got -1"),
+    ("body.fem", 0.0, "coupling tight startup_exchange maybe", "startup_exchange: expected yes or no, got 'maybe'"),
     ("body.fem", 0.25, "type modal", "atom 1 at (0.25, 0, 0) is 0.25 from the nearest FEM node"),
     ("body.fem", 0.0, "modes 0", "expected modes >= 1, got 0"),
     ("body.fem", 0.0, "substeps 4", "unknown keyword 'substeps'"),  # one MBDyn step per LAMMPS step

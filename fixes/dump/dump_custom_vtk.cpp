@@ -73,10 +73,10 @@ DumpCustomVTK::DumpCustomVTK(LAMMPS *lmp, int narg, char **arg) : SelfWritingDum
   clearstep = 1;  // computes are invoked
   if (narg == 5) fail("attributes", std::string("none given (expected some of: ") + kSupported + ")");
   if (pattern_.find('%') != std::string::npos)
-    fail("file '" + pattern_ + "'", "one file for all ranks: '%' is not allowed (legacy VTK)");
-  const std::string ext = pattern_.size() > 4 ? pattern_.substr(pattern_.size() - 4) : "";
-  if (ext == ".vtp" || ext == ".vtu")
-    fail("file '" + pattern_ + "'", "XML VTK (.vtp, .vtu) is not written; use a .vtk name (legacy VTK)");
+    fail("file '" + pattern_ + "'", "'%' (a file per rank) is not allowed, as in LIGGGHTS 3.8: use a .pvtp or .pvtu name");
+  if (const auto ext = vtkout::unwritten_xml_extension(pattern_))
+    fail("file '" + pattern_ + "'", "'" + *ext + "' is not written; expected .vtk (legacy), .vtp, .vtu, .pvtp or .pvtu");
+  kind_ = vtkout::file_kind(pattern_);
   if (domain->triclinic) fail("box", "a triclinic box is not supported (its bounding box is a hexahedron)");
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag) fail("atom style", "needs atom_style sphere (LIGGGHTS's granular)");
   parse_attributes(narg, arg);
@@ -326,28 +326,63 @@ void DumpCustomVTK::write_files(std::vector<double> &rows, int width, long long 
   }
   const long long step = update->ntimestep;
   const std::string file = vtkout::frame_file(pattern_, step);
-  auto open = [&](const std::string &name) {
-    std::ofstream os(name);
-    if (!os) error->one(FLERR, caller_ + ": cannot open file '" + name + "' for writing");
-    return os;
-  };
-  {
+  if (kind_ == vtkout::FileKind::Legacy) {
     std::ofstream os = open(file);
     vtkout::write_polydata(os, frame, title_);
-  }
-  {
-    std::ofstream os = open(vtkout::bounding_box_file(pattern_, step));
-    vtkout::write_bounding_box(os, domain->boxlo, domain->boxhi, title_);
+    std::ofstream box = open(vtkout::bounding_box_file(pattern_, step));
+    vtkout::write_bounding_box(box, domain->boxlo, domain->boxhi, title_);
+  } else {
+    write_xml_frame(frame, file, step);
   }
   const double time = update->atime + static_cast<double>(step - update->atimestep) * update->dt;
   const std::string name = vtkout::base_name(file);
   if (!series_.empty() && series_.back().first == name) series_.back().second = time;  // no '*': one file
   else series_.emplace_back(name, time);
-  std::ofstream os = open(vtkout::series_file(pattern_));
-  vtkout::write_series(os, series_);
+  if (kind_ == vtkout::FileKind::Legacy) {
+    std::ofstream os = open(vtkout::series_file(pattern_));
+    vtkout::write_series(os, series_);
+  } else {
+    std::ofstream os = open(vtkxml::pvd_file(pattern_));
+    vtkxml::write_pvd(os, series_);
+  }
 }
 
-static RegisterStyle reg_dump_custom_vtk("dump", "custom/vtk", "LIGGGHTS dump custom/vtk (legacy VTK per frame)",
+// A parallel name (.pvtp, .pvtu) gets its header and one piece holding every particle (rank 0 gathered
+// them), named as LIGGGHTS 3.8 names rank 0's piece; the bounding box likewise (.pvtr and its .vtr piece).
+void DumpCustomVTK::write_xml_frame(const vtkout::ParticleFrame &frame, const std::string &file, long long step)
+{
+  const bool unstructured = vtkout::is_unstructured(kind_);
+  const std::string box = vtkout::xml_bounding_box_file(pattern_, step);
+  if (!vtkout::is_parallel(kind_)) {
+    std::ofstream os = open(file);
+    vtkout::write_xml_particles(os, frame, unstructured);
+    std::ofstream bs = open(box);
+    vtkout::write_xml_bounding_box(bs, domain->boxlo, domain->boxhi);
+    return;
+  }
+  const std::string piece = vtkout::piece_file(file), box_piece = vtkout::piece_file(box);
+  {
+    std::ofstream os = open(piece);
+    vtkout::write_xml_particles(os, frame, unstructured);
+  }
+  std::ofstream os = open(file);
+  vtkout::write_xml_parallel_particles(os, frame, unstructured, vtkout::base_name(piece));
+  {
+    std::ofstream bs = open(box_piece);
+    vtkout::write_xml_bounding_box(bs, domain->boxlo, domain->boxhi);
+  }
+  std::ofstream bs = open(box);
+  vtkout::write_xml_parallel_bounding_box(bs, vtkout::base_name(box_piece));
+}
+
+std::ofstream DumpCustomVTK::open(const std::string &name) const
+{
+  std::ofstream os(name);
+  if (!os) error->one(FLERR, caller_ + ": cannot open file '" + name + "' for writing");
+  return os;
+}
+
+static RegisterStyle reg_dump_custom_vtk("dump", "custom/vtk", "LIGGGHTS dump custom/vtk (legacy or XML VTK per frame)",
                                          create_fix<DumpCustomVTK>);
 
 }  // namespace dembridge

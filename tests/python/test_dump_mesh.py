@@ -6,6 +6,7 @@ import os
 import struct
 import subprocess
 import sys
+import xml.etree.ElementTree as ET
 
 from dembridge import ROOT
 
@@ -60,6 +61,47 @@ def test_vtk_without_star_keeps_the_last_frame_and_stl_equals_fix_mesh_dump(tmp_
     assert floats == [struct.unpack("<f", struct.pack("<f", c))[0] for c in flat_nodes(nodes_10)]
 
 
+def legacy_mesh_arrays(path):
+    """{name: flat values} of our legacy mesh file's CELL_DATA / POINT_DATA, and its points."""
+    tok = open(path).read().split()
+    i = tok.index("POINTS")
+    n = int(tok[i + 1])
+    points = [float(v) for v in tok[i + 3:i + 3 + 3 * n]]
+    out, k = {}, i + 3 + 3 * n
+    while k < len(tok):
+        if tok[k] in ("CELL_DATA", "POINT_DATA"):
+            count, k = int(tok[k + 1]), k + 2
+        elif tok[k] == "SCALARS":
+            out[tok[k + 1]], k = [float(v) for v in tok[k + 6:k + 6 + count]], k + 6 + count
+        elif tok[k] in ("VECTORS", "NORMALS"):
+            out[tok[k + 1]], k = [float(v) for v in tok[k + 3:k + 3 + 3 * count]], k + 3 + 3 * count
+        else:
+            k += 1
+    return out, points
+
+
+def test_vtp_holds_the_legacy_arrays_and_the_pvd_lists_the_frames(tmp_path):
+    """A .vtp name: VTK XML PolyData (parsed here with xml.etree) with the legacy file's points and arrays,
+    and mesh.pvd listing each frame with its time."""
+    fields = "stress stresscomponents id vel wear area aedges acorners"
+    run(deck_head() + MESHES + [f"dump v all mesh/vtk 5 {tmp_path}/m_*.vtk {fields}",
+                                f"dump x all mesh/vtk 5 {tmp_path}/m_*.vtp {fields}", "run 10"]).close()
+    for step in (0, 5, 10):
+        legacy, points = legacy_mesh_arrays(tmp_path / f"m_{step}.vtk")
+        piece = ET.parse(tmp_path / f"m_{step}.vtp").getroot().find("PolyData/Piece")
+        assert piece.get("NumberOfPoints") == "12" and piece.get("NumberOfPolys") == "4"
+        vals = lambda e: [float(v) for v in (e.text or "").split()]
+        assert vals(piece.find("Points/DataArray")) == points
+        polys = {e.get("Name"): vals(e) for e in piece.find("Polys")}
+        assert polys == {"connectivity": list(range(12)), "offsets": [3, 6, 9, 12]}
+        got = {e.get("Name"): vals(e) for e in piece.find("CellData")}
+        got.update({e.get("Name"): vals(e) for e in piece.find("PointData")})
+        assert got == legacy and len(got) >= 9, (step, sorted(got))
+    root = ET.parse(tmp_path / "m.pvd").getroot()
+    assert [(float(d.get("timestep")), d.get("file")) for d in root.find("Collection")] == \
+        [(s * 1e-6, f"m_{s}.vtp") for s in (0, 5, 10)]
+
+
 def test_bad_input_gives_errors_naming_the_dump_and_the_argument(tmp_path):
     f = f"{tmp_path}/m*.vtk"
     s = f"{tmp_path}/m*.stl"
@@ -74,7 +116,7 @@ def test_bad_input_gives_errors_naming_the_dump_and_the_argument(tmp_path):
         "interpolate": (f"dump v all mesh/vtk 10 {f} output interpolate stress", ["'output interpolate'", "output face"]),
         "stl without star": (f"dump s all mesh/stl 10 {tmp_path}/m.stl", ["dump mesh/stl (id s)", "file", "'*'"]),
         "per-rank file": (f"dump v all mesh/vtk 10 {tmp_path}/m%.vtk stress", ["file", "'%'"]),
-        "xml vtk": (f"dump v all mesh/vtk 10 {tmp_path}/m*.vtp stress", ["file", ".vtk"]),
+        "parallel xml": (f"dump v all mesh/vtk 10 {tmp_path}/m*.pvtp stress", ["file", "'.pvtp'", ".vtp (VTK XML)"]),
         "ghost": (f"dump s all mesh/stl 10 {s} ghost", ["keyword 'ghost'"]),
         # N is read by LAMMPS's Output before the style exists: its ERROR and the "Last input line"
         "zero interval": (f"dump s all mesh/stl 0 {s}", ["Invalid dump frequency 0", "dump s all mesh/stl 0"]),

@@ -1,10 +1,11 @@
 """wear finnie of fix mesh/surface/stress, written by dump mesh/vtk ... wear: Finnie's formula on one
 contact (a sphere held against a flat plate at a fixed speed, so every step adds the same wear), and
 LIGGGHTS 3.8 run live on tests/data/liggghts-wear (200 particles falling into a funnel). LIGGGHTS's
-values at full precision come from its binary restart file (liggghts_restart.py): its mesh dump prints
-11 significant digits only."""
+values at full precision come from its XML mesh dump (.vtp) and its binary restart file
+(liggghts_restart.py): its legacy mesh dump prints 11 significant digits only."""
 import math
 import sys
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
@@ -107,16 +108,25 @@ def test_no_wear_when_moving_away(tmp_path):
     assert fmag > 0 and wear == [0.0, 0.0]
 
 
+def read_wear_vtp(path):
+    """Cell array 'wear' of a VTK XML PolyData mesh file (LIGGGHTS 3.8's dump mesh/vtk ... .vtp writes 17 digits)."""
+    cells = ET.parse(path).getroot().find("PolyData/Piece/CellData")
+    return [float(v) for v in next(e for e in cells if e.get("Name") == "wear").text.split()]
+
+
 def test_wear_deck_against_liggghts(tmp_path):
-    """Every triangle's wear at steps 0 and 7000 to LIGGGHTS's 11 printed digits, and at the end (step 14000)
-    to 1e-12 against the doubles of LIGGGHTS's restart file written after the run."""
-    deck = (CASE / "in.liggghts").read_text()
+    """Every triangle's wear at steps 0, 7000 and 14000: to LIGGGHTS's 11 printed digits in the legacy mesh dumps,
+    and to 1e-12 in the XML ones (a second mesh dump with a .vtp name, which LIGGGHTS writes with 17 digits);
+    at the end also against the doubles of LIGGGHTS's restart file written after the run."""
+    xml_dump = "dump wx all mesh/vtk 7000 mesh_*.vtp wear cad\n"
+    deck = (CASE / "in.liggghts").read_text().replace("run             14000", xml_dump + "run             14000")
+    assert xml_dump in deck
     ref = tmp_path / "liggghts"
     oh.run_liggghts(FUNNEL, ref, deck_text=deck + "write_restart wear.restart\n")
     ours = tmp_path / "lammps"
     lmp_deck = oh.liggghts_to_lammps_deck(deck.replace("mesh/gran/VTK", "mesh/vtk"), syntax="3x")
     oh.run_lammps(lmp_deck, ours, files=[FUNNEL / "data.txt", FUNNEL / "funnel.stl"])
-    worn = 0
+    worn, worst, same = 0, 0.0, 0
     for step in (0, 7000, 14000):
         a, b = read_wear(ref / f"mesh_{step}.vtk"), read_wear(ours / f"mesh_{step}.vtk")
         assert len(a) == len(b) == 60
@@ -125,19 +135,17 @@ def test_wear_deck_against_liggghts(tmp_path):
             assert abs(x - y) <= 5e-11 * abs(x) + 1e-12 * abs(y), (step, t, x, y)
             assert (x == 0.0) == (y == 0.0), (step, t, x, y)
         worn = sum(1 for x in a if x > 0)
+        full, got = read_wear_vtp(ref / f"mesh_{step}.vtp"), read_wear_vtp(ours / f"mesh_{step}.vtp")
+        assert got == b and len(full) == 60  # our XML frame holds our legacy frame's doubles
+        for t, (x, y) in enumerate(zip(full, got)):
+            assert abs(x - y) <= 1e-12 * abs(x), (step, t, x, y)
+            worst = max(worst, abs(x - y) / abs(x)) if x else worst
+            same += x == y and x > 0
     assert worn >= 20  # the funnel did wear (34 of 60 triangles by step 14000)
-    full, ours_end = wear_by_triangle(ref / "wear.restart", "cad"), read_wear(ours / "mesh_14000.vtk")
-    assert sorted(full) == list(range(60))
-    worst = 0.0
-    for t, y in enumerate(ours_end):
-        x = full[t]
-        assert abs(x - y) <= 1e-12 * abs(x), (t, x, y)
-        worst = max(worst, abs(x - y) / abs(x)) if x else worst
-    worn_end = [t for t in range(60) if full[t] > 0]
-    assert len(worn_end) >= 20 and all((full[t] == 0.0) == (ours_end[t] == 0.0) for t in range(60))
-    print(f"wear at step 14000: largest relative difference {worst:.3g}; of the {len(worn_end)} worn triangles "
-          f"{sum(full[t] == ours_end[t] for t in worn_end)} bit-identical")
-
+    restart = wear_by_triangle(ref / "wear.restart", "cad")
+    assert [restart[t] for t in range(60)] == full  # two readouts of LIGGGHTS's doubles agree
+    print(f"wear at steps 7000 and 14000: largest relative difference {worst:.3g}; {same} of the worn triangle-frames "
+          f"bit-identical ({worn} worn at the end)")
 
 BASE = ["units si", "atom_style sphere", "boundary f f f", "newton off", "comm_modify vel yes", "region box block -0.05 0.05 -0.05 0.05 -0.05 0.05",
         "create_box 1 box", "create_atoms 1 single 0.01 -0.01 0.0045 units box", "set group all diameter 0.01 density 2500",

@@ -1,4 +1,5 @@
 #include "mesh_writer.h"
+#include "vtk_xml.h"
 
 #include <cmath>
 #include <cstdint>
@@ -26,27 +27,90 @@ Vec3 triangle_force(const MeshFrame &f, int t)
 
 void put(std::ostream &os, const Vec3 &v) { os << v[0] << ' ' << v[1] << ' ' << v[2] << '\n'; }
 
-// One cell (or point) array in legacy VTK: a scalar of the given type or a 3-vector.
-void scalars(std::ostream &os, const std::vector<MeshFrame> &meshes, const char *name, const char *type,
-             const std::function<double(std::size_t, const MeshFrame &, int)> &value)
+// Appends an array of one value (or 3-vector) per triangle of every mesh, in file order.
+void cell_scalar(std::vector<MeshArray> &out, const std::vector<MeshFrame> &meshes, const char *name, bool integer,
+                 const std::function<double(std::size_t, const MeshFrame &, int)> &value)
 {
-  os << "SCALARS " << name << ' ' << type << " 1\nLOOKUP_TABLE default\n";
-  each_triangle(meshes, [&](std::size_t i, const MeshFrame &f, int t) { os << value(i, f, t) << '\n'; });
+  MeshArray a{"SCALARS", name, integer, 1, false, {}};
+  each_triangle(meshes, [&](std::size_t i, const MeshFrame &f, int t) { a.values.push_back(value(i, f, t)); });
+  out.push_back(std::move(a));
 }
 
-void vectors(std::ostream &os, const std::vector<MeshFrame> &meshes, const char *kind, const char *name,
-             const std::function<Vec3(const MeshFrame &, int)> &value)
+void cell_vector(std::vector<MeshArray> &out, const std::vector<MeshFrame> &meshes, const char *legacy, const char *name,
+                 const std::function<Vec3(const MeshFrame &, int)> &value)
 {
-  os << kind << ' ' << name << " double\n";
-  each_triangle(meshes, [&](std::size_t, const MeshFrame &f, int t) { put(os, value(f, t)); });
+  MeshArray a{legacy, name, false, 3, false, {}};
+  each_triangle(meshes, [&](std::size_t, const MeshFrame &f, int t) {
+    const Vec3 v = value(f, t);
+    a.values.insert(a.values.end(), {v[0], v[1], v[2]});
+  });
+  out.push_back(std::move(a));
+}
+
+int triangle_count(const std::vector<MeshFrame> &meshes)
+{
+  int n = 0;
+  for (const auto &f : meshes) n += f.mesh->size();
+  return n;
 }
 
 }  // namespace
 
+std::vector<MeshArray> mesh_arrays(const std::vector<MeshFrame> &meshes, const VtkFields &want)
+{
+  std::vector<MeshArray> out;
+  if (want.mesh_index) cell_scalar(out, meshes, "mesh", true, [](std::size_t i, const MeshFrame &, int) { return double(i); });
+  if (want.normal) cell_vector(out, meshes, "NORMALS", "normal", [](const MeshFrame &f, int t) { return f.mesh->normal(t); });
+  if (want.force) cell_vector(out, meshes, "VECTORS", "force", triangle_force);
+  if (want.stress) {
+    // LIGGGHTS fix mesh/surface/stress: both taken positive, the normal's orientation being arbitrary
+    cell_scalar(out, meshes, "normal_stress_average", false, [](std::size_t, const MeshFrame &f, int t) {
+      return std::fabs(dot(triangle_force(f, t), f.mesh->normal(t))) / f.mesh->area(t);
+    });
+    cell_scalar(out, meshes, "shear_stress_average", false, [](std::size_t, const MeshFrame &f, int t) {
+      const Vec3 fo = triangle_force(f, t), nn = f.mesh->normal(t);
+      return norm(sub(fo, scale(nn, dot(fo, nn)))) / f.mesh->area(t);
+    });
+  }
+  if (want.stress_components)
+    cell_vector(out, meshes, "VECTORS", "stress",
+                [](const MeshFrame &f, int t) { return scale(triangle_force(f, t), 1.0 / f.mesh->area(t)); });
+  if (want.triangle_id) cell_scalar(out, meshes, "meshid", true, [](std::size_t, const MeshFrame &, int t) { return double(t); });
+  if (want.triangle_index) cell_scalar(out, meshes, "index", true, [](std::size_t, const MeshFrame &, int t) { return double(t); });
+  if (want.triangle_velocity)
+    cell_vector(out, meshes, "VECTORS", "v", [](const MeshFrame &f, int t) {
+      if (!f.mesh->has_velocity()) return Vec3{0.0, 0.0, 0.0};
+      return scale(add(add(f.mesh->node_velocity(t, 0), f.mesh->node_velocity(t, 1)), f.mesh->node_velocity(t, 2)), 1.0 / 3.0);
+    });
+  if (want.wear)
+    cell_scalar(out, meshes, "wear", false, [](std::size_t, const MeshFrame &f, int t) {
+      return f.wear.size() == std::size_t(f.mesh->size()) ? f.wear[std::size_t(t)] : 0.0;
+    });
+  if (want.area) cell_scalar(out, meshes, "area", false, [](std::size_t, const MeshFrame &f, int t) { return f.mesh->area(t); });
+  if (want.active_edges)
+    cell_scalar(out, meshes, "active_edges", true, [](std::size_t, const MeshFrame &f, int t) {
+      return double(f.mesh->edge_active(t, 0) + f.mesh->edge_active(t, 1) + f.mesh->edge_active(t, 2));
+    });
+  if (want.active_corners)
+    cell_scalar(out, meshes, "active_corners", true, [](std::size_t, const MeshFrame &f, int t) {
+      return double(f.mesh->corner_active(t, 0) + f.mesh->corner_active(t, 1) + f.mesh->corner_active(t, 2));
+    });
+  if (want.node_velocity) {
+    MeshArray a{"VECTORS", "velocity", false, 3, true, {}};
+    each_triangle(meshes, [&](std::size_t, const MeshFrame &f, int t) {
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 v = f.mesh->has_velocity() ? f.mesh->node_velocity(t, k) : Vec3{0.0, 0.0, 0.0};
+        a.values.insert(a.values.end(), {v[0], v[1], v[2]});
+      }
+    });
+    out.push_back(std::move(a));
+  }
+  return out;
+}
+
 void write_vtk(std::ostream &os, const std::vector<MeshFrame> &meshes, const char *title, const VtkFields &want)
 {
-  int n = 0;
-  for (const auto &f : meshes) n += f.mesh->size();
+  const int n = triangle_count(meshes);
   os << std::setprecision(17);
   os << "# vtk DataFile Version 2.0\n" << title << "\nASCII\nDATASET POLYDATA\n";
   os << "POINTS " << 3 * n << " double\n";
@@ -55,53 +119,49 @@ void write_vtk(std::ostream &os, const std::vector<MeshFrame> &meshes, const cha
   });
   os << "POLYGONS " << n << ' ' << 4 * n << '\n';
   for (int t = 0; t < n; ++t) os << "3 " << 3 * t << ' ' << 3 * t + 1 << ' ' << 3 * t + 2 << '\n';
+  const std::vector<MeshArray> arrays = mesh_arrays(meshes, want);
+  bool cells = false, points = false;
+  for (const MeshArray &a : arrays) {
+    if (!a.point && !cells) os << "CELL_DATA " << n << '\n';
+    if (a.point && !points) os << "POINT_DATA " << 3 * n << '\n';
+    (a.point ? points : cells) = true;
+    if (a.components == 1) {
+      os << "SCALARS " << a.name << ' ' << (a.integer ? "int" : "double") << " 1\nLOOKUP_TABLE default\n";
+      for (double v : a.values) os << v << '\n';
+    } else {
+      os << a.legacy << ' ' << a.name << " double\n";
+      for (std::size_t k = 0; k < a.values.size(); k += 3) put(os, {a.values[k], a.values[k + 1], a.values[k + 2]});
+    }
+  }
+}
 
-  const bool any_cell = want.mesh_index || want.normal || want.force || want.stress || want.stress_components ||
-                        want.triangle_id || want.triangle_index || want.triangle_velocity || want.area ||
-                        want.active_edges || want.active_corners || want.wear;
-  if (any_cell) os << "CELL_DATA " << n << '\n';
-  if (want.mesh_index) scalars(os, meshes, "mesh", "int", [](std::size_t i, const MeshFrame &, int) { return double(i); });
-  if (want.normal) vectors(os, meshes, "NORMALS", "normal", [](const MeshFrame &f, int t) { return f.mesh->normal(t); });
-  if (want.force) vectors(os, meshes, "VECTORS", "force", triangle_force);
-  if (want.stress) {
-    // LIGGGHTS fix mesh/surface/stress: both taken positive, the normal's orientation being arbitrary
-    scalars(os, meshes, "normal_stress_average", "double", [](std::size_t, const MeshFrame &f, int t) {
-      return std::fabs(dot(triangle_force(f, t), f.mesh->normal(t))) / f.mesh->area(t);
-    });
-    scalars(os, meshes, "shear_stress_average", "double", [](std::size_t, const MeshFrame &f, int t) {
-      const Vec3 fo = triangle_force(f, t), nn = f.mesh->normal(t);
-      return norm(sub(fo, scale(nn, dot(fo, nn)))) / f.mesh->area(t);
-    });
+// VTK XML PolyData: 3 points per triangle (Float64), one polygon each, the arrays of write_vtk.
+void write_vtp(std::ostream &os, const std::vector<MeshFrame> &meshes, const VtkFields &want)
+{
+  const int n = triangle_count(meshes);
+  const std::vector<MeshArray> arrays = mesh_arrays(meshes, want);
+  vtkxml::header(os, "PolyData");
+  os << "  <PolyData>\n    <Piece NumberOfPoints=\"" << 3 * n
+     << "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"" << n << "\">\n";
+  for (bool point : {true, false}) {
+    os << (point ? "      <PointData>\n" : "      <CellData>\n");
+    for (const MeshArray &a : arrays)
+      if (a.point == point) vtkxml::data_array(os, a.integer ? "Int32" : "Float64", a.name, a.components, a.values);
+    os << (point ? "      </PointData>\n" : "      </CellData>\n");
   }
-  if (want.stress_components)
-    vectors(os, meshes, "VECTORS", "stress",
-            [](const MeshFrame &f, int t) { return scale(triangle_force(f, t), 1.0 / f.mesh->area(t)); });
-  if (want.triangle_id) scalars(os, meshes, "meshid", "int", [](std::size_t, const MeshFrame &, int t) { return double(t); });
-  if (want.triangle_index) scalars(os, meshes, "index", "int", [](std::size_t, const MeshFrame &, int t) { return double(t); });
-  if (want.triangle_velocity)
-    vectors(os, meshes, "VECTORS", "v", [](const MeshFrame &f, int t) {
-      if (!f.mesh->has_velocity()) return Vec3{0.0, 0.0, 0.0};
-      return scale(add(add(f.mesh->node_velocity(t, 0), f.mesh->node_velocity(t, 1)), f.mesh->node_velocity(t, 2)), 1.0 / 3.0);
-    });
-  if (want.wear)
-    scalars(os, meshes, "wear", "double", [](std::size_t, const MeshFrame &f, int t) {
-      return f.wear.size() == std::size_t(f.mesh->size()) ? f.wear[std::size_t(t)] : 0.0;
-    });
-  if (want.area) scalars(os, meshes, "area", "double", [](std::size_t, const MeshFrame &f, int t) { return f.mesh->area(t); });
-  if (want.active_edges)
-    scalars(os, meshes, "active_edges", "int", [](std::size_t, const MeshFrame &f, int t) {
-      return double(f.mesh->edge_active(t, 0) + f.mesh->edge_active(t, 1) + f.mesh->edge_active(t, 2));
-    });
-  if (want.active_corners)
-    scalars(os, meshes, "active_corners", "int", [](std::size_t, const MeshFrame &f, int t) {
-      return double(f.mesh->corner_active(t, 0) + f.mesh->corner_active(t, 1) + f.mesh->corner_active(t, 2));
-    });
-  if (want.node_velocity) {
-    os << "POINT_DATA " << 3 * n << "\nVECTORS velocity double\n";
-    each_triangle(meshes, [&](std::size_t, const MeshFrame &f, int t) {
-      for (int k = 0; k < 3; ++k) put(os, f.mesh->has_velocity() ? f.mesh->node_velocity(t, k) : Vec3{0.0, 0.0, 0.0});
-    });
-  }
+  std::vector<double> xyz;
+  each_triangle(meshes, [&](std::size_t, const MeshFrame &f, int t) {
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 p = f.mesh->node(t, k);
+      xyz.insert(xyz.end(), {p[0], p[1], p[2]});
+    }
+  });
+  os << "      <Points>\n";
+  vtkxml::data_array(os, "Float64", "Points", 3, xyz);
+  os << "      </Points>\n      <Polys>\n";
+  vtkxml::counting_array(os, "Int64", "connectivity", std::size_t(3 * n), 0, 1);
+  vtkxml::counting_array(os, "Int64", "offsets", std::size_t(n), 3, 3);
+  os << "      </Polys>\n    </Piece>\n  </PolyData>\n</VTKFile>\n";
 }
 
 void write_stl(std::ostream &os, const std::vector<MeshFrame> &meshes)

@@ -1,4 +1,4 @@
-// Mesh output for ParaView: legacy VTK polydata and ASCII STL, several meshes in one file. Used by
+// Mesh output for ParaView: legacy or XML (.vtp) VTK polydata and ASCII STL, several meshes in one file. Used by
 // fix mesh/dump and by the dump styles mesh/stl and mesh/vtk (walls/mesh_commands/mesh_output.h).
 //
 // VTK: one triangle per cell, 3 points per triangle (nodes are not shared, as in LIGGGHTS), then
@@ -9,6 +9,7 @@
 #include "triangle_mesh.h"
 
 #include <ostream>
+#include <string>
 #include <vector>
 
 namespace dembridge::mesh {
@@ -36,8 +37,22 @@ struct VtkFields {
   static VtkFields none() { return {false, false, false, false}; }
 };
 
+// One array of a frame, per triangle of every mesh (cell data) or per node (point data, 3 per triangle).
+struct MeshArray {
+  const char *legacy;  // its legacy VTK keyword: "SCALARS", "VECTORS" or "NORMALS"
+  std::string name;
+  bool integer;
+  int components;  // 1 or 3
+  bool point;      // point data (the node velocities) instead of cell data
+  std::vector<double> values;
+};
+// The arrays VtkFields asks for, in file order (the same for legacy and XML files).
+std::vector<MeshArray> mesh_arrays(const std::vector<MeshFrame> &meshes, const VtkFields &fields);
+
 void write_vtk(std::ostream &os, const std::vector<MeshFrame> &meshes, const char *title,
                const VtkFields &fields = VtkFields{});
+// VTK XML PolyData (.vtp, ASCII): the same points (Float64), triangles and arrays (Int32 / Float64 %.17g).
+void write_vtp(std::ostream &os, const std::vector<MeshFrame> &meshes, const VtkFields &fields = VtkFields{});
 void write_stl(std::ostream &os, const std::vector<MeshFrame> &meshes);
 // Binary STL (open the stream in binary mode): 80-byte header, triangle count, per triangle the
 // normal and the 3 vertices as little-endian 32-bit floats and a zero attribute word; all meshes in

@@ -81,8 +81,8 @@ void DumpMesh::check_file_name(MeshArgs &a) const
   if (!out_.vtk && f.find('*') == std::string::npos)
     a.fail("file '" + f + "'", "expected a name with '*' (one STL file per frame, e.g. post/mesh*.stl), as LIGGGHTS");
   auto ends_with = [&](const char *s) { return f.size() >= std::strlen(s) && f.compare(f.size() - std::strlen(s), std::string::npos, s) == 0; };
-  if (out_.vtk && (ends_with(".vtp") || ends_with(".pvtp")))
-    a.fail("file '" + f + "'", "XML VTK (.vtp, .pvtp) is not written; use a .vtk name (legacy VTK)");
+  if (out_.vtk && ends_with(".pvtp"))
+    a.fail("file '" + f + "'", "'.pvtp' (a file per rank) is not written; use a .vtp (VTK XML) or .vtk (legacy) name");
 }
 
 bool DumpMesh::stl_keyword(MeshArgs &a, const std::string &w)
@@ -125,7 +125,7 @@ void DumpMesh::init_style()
 void DumpMesh::write() { write_mesh_frame(lmp, out_); }
 
 static RegisterStyle reg_dump_mesh_stl("dump", "mesh/stl", "LIGGGHTS dump mesh/stl (ASCII STL per frame)", create_fix<DumpMesh>);
-static RegisterStyle reg_dump_mesh_vtk("dump", "mesh/vtk", "LIGGGHTS dump mesh/vtk (legacy VTK per frame)", create_fix<DumpMesh>);
+static RegisterStyle reg_dump_mesh_vtk("dump", "mesh/vtk", "LIGGGHTS dump mesh/vtk (legacy or XML VTK per frame)", create_fix<DumpMesh>);
 // LIGGGHTS 3.8's other names of the same two dumps.
 static RegisterStyle reg_dump_mesh_gran_vtk("dump", "mesh/gran/VTK", "LIGGGHTS dump mesh/gran/VTK (= mesh/vtk)", create_fix<DumpMesh>);
 static RegisterStyle reg_dump_stl("dump", "stl", "LIGGGHTS dump stl (= mesh/stl)", create_fix<DumpMesh>);

@@ -6,6 +6,7 @@
 #include "mesh_writer.h"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -21,6 +22,8 @@ struct MeshOutput {
   std::string file;                     // '*' is replaced by the timestep
   std::vector<std::string> mesh_ids;    // fix mesh/surface(/stress) IDs, in file order
   std::string caller;                   // names the command in errors, e.g. "dump mesh/vtk (id d)"
+  // frames written so far (file name, time): the .pvd collection of .vtp frames
+  std::vector<std::pair<std::string, double>> series;
 };
 
 // The IDs of every fix mesh/surface and mesh/surface/stress defined so far, in fix order.
@@ -29,7 +32,8 @@ std::vector<std::string> all_mesh_ids(LAMMPS_NS::LAMMPS *lmp);
 // Errors (naming out.caller) if a mesh ID is unknown or not a mesh.
 void check_mesh_ids(LAMMPS_NS::LAMMPS *lmp, const MeshOutput &out);
 
-// Writes the current state of the meshes to out.file (with '*' replaced by the step). Collective.
-void write_mesh_frame(LAMMPS_NS::LAMMPS *lmp, const MeshOutput &out);
+// Writes the current state of the meshes to out.file (with '*' replaced by the step): legacy VTK, VTK XML
+// for a .vtp name (and the .pvd collection listing every frame with its time), or STL. Collective.
+void write_mesh_frame(LAMMPS_NS::LAMMPS *lmp, MeshOutput &out);
 
 }  // namespace dembridge

@@ -1,6 +1,7 @@
 // The file names LIGGGHTS 3.8 gives a custom/vtk dump's frames and bounding boxes (seen on its own
-// output), and the legacy VTK text of one small frame, written out by hand.
+// output), the legacy VTK text of one small frame, written out by hand, and the XML names and .pvd.
 #include "particle_vtk.h"
+#include "particle_vtk_xml.h"
 
 #include <gtest/gtest.h>
 
@@ -72,4 +73,41 @@ TEST(ParticleVtkWriter, BoundingBoxAndSeries)
   EXPECT_EQ(s.str(), "{\n  \"file-series-version\" : \"1.0\",\n  \"files\" : [\n"
                      "    { \"name\" : \"a_0.vtk\", \"time\" : 0 },\n"
                      "    { \"name\" : \"a_10.vtk\", \"time\" : 0.0001 }\n  ]\n}\n");
+}
+
+TEST(ParticleVtkXmlNames, KindsAndNamesAsLiggghts)
+{
+  using namespace dembridge::vtkout;
+  EXPECT_EQ(file_kind("post/a_*.vtk"), FileKind::Legacy);
+  EXPECT_EQ(file_kind("post/a_*.vtp"), FileKind::PolyData);
+  EXPECT_EQ(file_kind("post/a_*.vtu"), FileKind::UnstructuredGrid);
+  EXPECT_EQ(file_kind("post/a_*.pvtp"), FileKind::ParallelPolyData);
+  EXPECT_EQ(file_kind("post/a_*.pvtu"), FileKind::ParallelUnstructuredGrid);
+  EXPECT_EQ(file_kind("post.vtp/a"), FileKind::Legacy);  // the folder's dot is no extension
+  EXPECT_EQ(unwritten_xml_extension("a_*.vtm").value_or(""), ".vtm");
+  EXPECT_FALSE(unwritten_xml_extension("a_*.vtp"));
+  // measured on LIGGGHTS 3.8: a_*.vtp -> a_boundingBox_10.vtr; d_*.pvtp -> d_10.pvtp, its piece d_10_0.vtp and
+  // d_boundingBox_10.pvtr; f.vtp -> f_boundingBox.vtr
+  EXPECT_EQ(xml_bounding_box_file("post/a_*.vtp", 10), "post/a_boundingBox_10.vtr");
+  EXPECT_EQ(xml_bounding_box_file("post/b_*.vtu", 10), "post/b_boundingBox_10.vtr");
+  EXPECT_EQ(xml_bounding_box_file("post/d_*.pvtp", 10), "post/d_boundingBox_10.pvtr");
+  EXPECT_EQ(xml_bounding_box_file("f.vtp", 10), "f_boundingBox.vtr");
+  EXPECT_EQ(piece_file("post/d_10.pvtp"), "post/d_10_0.vtp");
+  EXPECT_EQ(piece_file("post/e_10.pvtu"), "post/e_10_0.vtu");
+  EXPECT_EQ(piece_file("post/d_boundingBox_10.pvtr"), "post/d_boundingBox_10_0.vtr");
+  EXPECT_EQ(dembridge::vtkxml::pvd_file("post/chute_*.vtp"), "post/chute.pvd");
+  EXPECT_EQ(dembridge::vtkxml::pvd_file("post/dump*.pvtu"), "post/dump.pvd");
+  EXPECT_EQ(dembridge::vtkxml::pvd_file("one.vtu"), "one.pvd");
+}
+
+TEST(ParticleVtkXmlWriter, PvdListsEachFrameWithItsTime)
+{
+  std::ostringstream os;
+  dembridge::vtkxml::write_pvd(os, {{"a_0.vtp", 0.0}, {"a_10.vtp", 1e-5}});
+  EXPECT_EQ(os.str(),
+            "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+            "  <Collection>\n"
+            "    <DataSet timestep=\"0\" group=\"\" part=\"0\" file=\"a_0.vtp\"/>\n"
+            "    <DataSet timestep=\"1.0000000000000001e-05\" group=\"\" part=\"0\" file=\"a_10.vtp\"/>\n"
+            "  </Collection>\n</VTKFile>\n");
 }

@@ -96,9 +96,33 @@ def read_history_csv(path):
     return {c: a[:, k] for k, c in enumerate(head)}
 
 
+def _read_xml_particles(path):
+    import os
+    import xml.etree.ElementTree as ET
+    root = ET.parse(path).getroot()
+    kind = root.get("type")
+    if kind in ("PPolyData", "PUnstructuredGrid"):  # a parallel header: read its pieces, in order
+        parts = [_read_xml_particles(os.path.join(os.path.dirname(path), e.get("Source")))
+                 for e in root.find(kind).findall("Piece")]
+        return {k: np.concatenate([q[k] for q in parts]) for k in parts[0]}
+    piece = root.find(f"{kind}/Piece")
+
+    def array(e):
+        vals = np.array((e.text or "").split(), dtype=float)
+        c = int(e.get("NumberOfComponents", "1"))
+        return vals if c == 1 else vals.reshape(-1, c)
+    out = {"points": array(piece.find("Points/DataArray")).reshape(-1, 3)}
+    for e in piece.find("PointData"):
+        out[e.get("Name")] = array(e)
+    return out
+
+
 def read_vtk_particles(path):
-    """One frame of ``dump custom/vtk`` (legacy ASCII VTK, as LIGGGHTS writes it) as a dict of NumPy
-    arrays: ``points`` (N x 3) and every named array (N, or N x 3 for a vector such as ``v``)."""
+    """One frame of ``dump custom/vtk`` as a dict of NumPy arrays: ``points`` (N x 3) and every named array
+    (N, or N x 3 for a vector such as ``v``). Legacy ASCII VTK (``.vtk``, as LIGGGHTS writes it) or VTK
+    XML (``.vtp``, ``.vtu``, or a ``.pvtp`` / ``.pvtu`` header, whose pieces are read)."""
+    if str(path).endswith((".vtp", ".vtu", ".pvtp", ".pvtu")):
+        return _read_xml_particles(str(path))
     tokens = open(path).read().split()
     out, k = {}, 0
     n = 0

@@ -7,6 +7,9 @@ import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
+import numpy as np
+
+from dembridge import read_vtk_particles
 from dembridge.liggghts_deck import translate_text
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -121,6 +124,15 @@ def test_xml_frames_equal_the_legacy_frames_and_the_pvd_lists_them(tmp_path):
                 assert (t, c) == ({"int": "Int32", "double": "Float64"}[typ], comps), name
                 assert vals == [x for r in rows for x in r], (step, ext, name)  # %.17g both: the same doubles
     assert legacy["arrays"]["v"][2][0][2] < -1.0  # gravity acted by the last frame
+    # dembridge.read_vtk_particles reads every form alike (the points: the same floats)
+    frames = {ext: read_vtk_particles(wd / f"{NAMES[ext][0]}_{STEPS}.{ext}") for ext in NAMES}
+    for ext, f in frames.items():
+        assert sorted(f) == sorted(frames["vtk"]), ext
+        for k, v in f.items():
+            want = frames["vtk"][k]
+            if k == "points":
+                v, want = v.astype(np.float32), want.astype(np.float32)
+            assert v.shape == want.shape and (v == want).all(), (ext, k)
     for ext in ("vtp", "vtu", "pvtp", "pvtu"):
         stem = NAMES[ext][0]
         root = ET.parse(wd / f"{stem}.pvd").getroot()

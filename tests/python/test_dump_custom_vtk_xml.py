@@ -8,6 +8,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from dembridge import read_vtk_particles
 from dembridge.liggghts_deck import translate_text
@@ -92,10 +93,11 @@ def parallel_header(path, kind):
     return pieces[0], {e.get("Name"): (e.get("type"), int(e.get("NumberOfComponents", "1"))) for e in p.find("PPointData")}
 
 
-def run_ours(tmp_path):
+def run_ours(tmp_path, nprocs=1):
     deck = f"plugin load {oh.plugin_path()}\n" + translate_text(DECK, "in.liggghts", notes=False).text
-    oh.run_lammps(deck, tmp_path / "lammps")
-    return tmp_path / "lammps"
+    wd = tmp_path / f"lammps{nprocs}"
+    oh.run_lammps(deck, wd, nprocs=nprocs)
+    return wd
 
 
 def test_xml_frames_equal_the_legacy_frames_and_the_pvd_lists_them(tmp_path):
@@ -162,3 +164,14 @@ def test_file_names_and_arrays_as_liggghts_writes_them(tmp_path):
             assert list(a.items()) == list(b.items()), (ext, step)
             assert box_of(ref / f"{stem}_boundingBox_{step}.vtr") == box_of(ours / f"{stem}_boundingBox_{step}.vtr")
 
+
+
+@pytest.mark.two_cores
+def test_two_ranks_write_the_same_files(tmp_path):
+    """Rank 0 gathers the particles, sorted by ID: the XML files and the .pvd do not depend on the rank count."""
+    one, two = run_ours(tmp_path, 1), run_ours(tmp_path, 2)
+    names = sorted(p.name for p in one.iterdir() if p.suffix in (".vtp", ".vtu", ".pvtp", ".pvtu", ".vtr", ".pvtr", ".pvd"))
+    assert len(names) == 4 * 3 * 2 + 2 * 3 * 2 + 4  # frames and boxes, the parallel files' pieces, the .pvd files
+    assert names == sorted(p.name for p in two.iterdir() if p.suffix in (".vtp", ".vtu", ".pvtp", ".pvtu", ".vtr", ".pvtr", ".pvd"))
+    for n in names:
+        assert (one / n).read_bytes() == (two / n).read_bytes(), n

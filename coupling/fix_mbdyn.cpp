@@ -86,7 +86,7 @@ const char *kKeywords =
     "path, port, host, file, sleep, precision, create, coupling, orientation, labels, sorted, accelerations, reference_node, "
     "reference_forces, rotate_reference_forces, reference, node, mapping, match_tolerance, "
     "substeps, mbdyn_dt, loads, predictor, startup_exchange, gravity, connect_timeout, io_timeout, tolerance, "
-    "max_iterations, profile";
+    "max_iterations, profile, resume";
 
 }  // namespace
 
@@ -232,6 +232,8 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
       if (v == "mbdyn") correct_predictor_ = false;
       else if (v == "correct") correct_predictor_ = true;
       else error->all(FLERR, prefix + "keyword 'predictor' expects mbdyn or correct, got '" + v + "'");
+    } else if (kw == "resume") {
+      resume_ = parse_yes_no(kw, value("yes or no"), prefix, error);
     } else if (kw == "startup_exchange") {
       startup_exchange_ = parse_yes_no(kw, value("yes or no"), prefix, error);
     } else if (kw == "gravity") {
@@ -333,6 +335,7 @@ FixMBDyn::FixMBDyn(LAMMPS *lmp, int narg, char **arg) :
   fsum_.assign(6 * n, 0.0);
   sent_.assign(6 * n, 0.0);
 
+  restart_global = 1;
   vector_flag = 1;
   size_vector = 4 + 3 * static_cast<int>(meshes_.size());
   extvector = 0;
@@ -426,11 +429,12 @@ void FixMBDyn::init()
     if (ni < 1 || std::fabs(n - static_cast<double>(ni)) > 1e-6 * n)
       error->all(FLERR, prefix + "mbdyn_dt " + num(mbdyn_dt_) + " must be an integer multiple of the LAMMPS "
                  "timestep " + num(update->dt) + " (one MBDyn step = N LAMMPS steps)");
-    if (bound_ && ni != substeps_)
+    if (bound_ && !restored_ && ni != substeps_)  // after read_restart: check_restored_config says it
       error->all(FLERR, prefix + "the LAMMPS timestep changed during the coupling: " + std::to_string(ni) +
                             " substeps instead of " + std::to_string(substeps_));
     substeps_ = static_cast<int>(ni);
   }
+  check_restored_config();
   if (!atom->tag_enable) error->all(FLERR, prefix + "requires atom IDs");
   if (update->integrate_style && std::strncmp(update->integrate_style, "respa", 5) == 0)
     error->all(FLERR, prefix + "does not support run_style respa (it reads the loads in post_force); use run_style verlet");
@@ -720,7 +724,6 @@ void FixMBDyn::bind_atoms()
   MPI_Allgatherv(mine.data(), nme, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, world);
   members_.clear();
   std::vector<long long> per_node(nodes_.size(), 0);
-  node_radius_.assign(nodes_.size(), 0.0);
   for (int j = 0; j + 4 < total; j += 5) {
     const tagint tag = static_cast<tagint>(all[j]);
     Member m;
@@ -734,7 +737,6 @@ void FixMBDyn::bind_atoms()
                nodes_[ins.first->second.node].text + ") and to " + slot_name(m.node) + " (" +
                nodes_[m.node].text + "): an atom can follow only one MBDyn point");
     ++per_node[m.node];
-    node_radius_[m.node] = std::max(node_radius_[m.node], std::sqrt(m.r[0] * m.r[0] + m.r[1] * m.r[1] + m.r[2] * m.r[2]));
   }
   for (std::size_t k = 0; k < nodes_.size(); ++k)
     if (nodes_[k].is_mesh && !nodes_[k].is_vertex) meshes_[nodes_[k].mesh].bind(poseA_[k].x, poseA_[k].R);
@@ -749,6 +751,17 @@ void FixMBDyn::bind_atoms()
   for (std::size_t k = 0; k < nodes_.size(); ++k)
     if (per_node[k] == 0 && !nodes_[k].is_mesh)
       fail_all(slot_name(k) + " (" + nodes_[k].text + "): no atom to couple");
+  index_members();
+  bound_ = true;
+}
+
+void FixMBDyn::index_members()
+{
+  node_radius_.assign(nodes_.size(), 0.0);
+  for (const auto &tm : members_) {
+    const Member &m = tm.second;
+    node_radius_[m.node] = std::max(node_radius_[m.node], std::sqrt(m.r[0] * m.r[0] + m.r[1] * m.r[1] + m.r[2] * m.r[2]));
+  }
   allbits_ = 0;
   bool any_atom = false;
   for (const NodeSpec &n : nodes_) {
@@ -771,7 +784,6 @@ void FixMBDyn::bind_atoms()
     node_tags_.push_back(tm.first);
     node_index_.push_back(tm.second.node);
   }
-  bound_ = true;
 }
 
 void FixMBDyn::interpolate(double s, std::vector<Pose> &out) const
@@ -1032,8 +1044,10 @@ void FixMBDyn::correct_prediction(const std::vector<Pose> &msg)
   // (the trapezoidal rule), the same for w and the orientation. Pose A of the sub-step
   // interpolation becomes the recovered converged state.
   const double T = substeps_ * update->dt;
+  const bool acc = uses_accelerations() && prev_acc_.size() == msg_acc_.size() && !msg_acc_.empty();
   if (prev_msg_.size() != msg.size()) {
     prev_msg_ = msg;
+    prev_acc_ = msg_acc_;
     return;
   }
   const PredictorEvidence evidence =
@@ -1057,15 +1071,22 @@ void FixMBDyn::correct_prediction(const std::vector<Pose> &msg)
   }
   if (!predictor_is_cn_) {
     prev_msg_ = msg;
+    prev_acc_ = msg_acc_;
     return;
   }
   for (std::size_t k = 0; k < msg.size(); ++k) {
     const Pose &P = msg[k], &Q = prev_msg_[k];
     Pose A = P, B = P;
     V3 back{}, half{};
+    // With MBDyn's accelerations (crank nicolson's prediction sends those of the converged step
+    // k-1), the end-of-step velocity is the trapezoidal rule with a_k extrapolated linearly from
+    // a_{k-1} and a_{k-2}: v* - v_{k-1} = T/2 (3 a_{k-1} - a_{k-2}), one order more than
+    // v_{k-1} - v_{k-2} = T/2 (a_{k-1} + a_{k-2}) below.
+    const double *a = acc && k < num_points_ ? &msg_acc_[6 * k] : nullptr, *b = a ? &prev_acc_[6 * k] : nullptr;
     for (int c = 0; c < 3; ++c) {
       A.x[c] = P.x[c] - T * P.v[c];
-      const double dv = P.v[c] - Q.v[c], dw = P.w[c] - Q.w[c];
+      const double dv = a ? 0.5 * T * (3 * a[c] - b[c]) : P.v[c] - Q.v[c];
+      const double dw = a ? 0.5 * T * (3 * a[3 + c] - b[3 + c]) : P.w[c] - Q.w[c];
       B.v[c] = P.v[c] + dv;
       B.x[c] = P.x[c] + 0.5 * T * dv;
       B.w[c] = P.w[c] + dw;
@@ -1078,10 +1099,29 @@ void FixMBDyn::correct_prediction(const std::vector<Pose> &msg)
     poseB_[k] = B;
   }
   prev_msg_ = msg;
+  prev_acc_ = msg_acc_;
+}
+
+bool FixMBDyn::uses_accelerations() const
+{
+  // in the global frame only: with a reference node they would be relative to it
+  return options_->nodal.accelerations && !options_->nodal.reference_node;
+}
+
+void FixMBDyn::read_accelerations(std::vector<double> &out) const
+{
+  const mb::Kinematics &k = kinematics();
+  out.assign(6 * num_points_, 0.0);
+  for (std::size_t i = 0; i < num_points_; ++i)
+    for (int c = 0; c < 3; ++c) {
+      if (k.a.size() == 3 * num_points_) out[6 * i + c] = k.a[3 * i + c];
+      if (k.omega_dot.size() == 3 * num_points_) out[6 * i + 3 + c] = k.omega_dot[3 * i + c];
+    }
 }
 
 void FixMBDyn::setup_pre_exchange()
 {
+  if (restored_) resume_session();  // the first run after read_restart
   if (ended_) return;
   if (!bound_) {
     open_session();
@@ -1155,6 +1195,7 @@ void FixMBDyn::post_integrate()
       decode_to_global(poseB_);
       if (correct_predictor_) {
         msg_ = poseB_;  // a copy: correct_prediction rewrites poseB_ (msg_ keeps its storage)
+        if (uses_accelerations()) read_accelerations(msg_acc_);
         correct_prediction(msg_);
       }
     }

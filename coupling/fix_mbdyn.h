@@ -46,6 +46,10 @@ class FixMBDyn : public LAMMPS_NS::Fix {
 
   double compute_vector(int i) override;
   double compute_array(int i, int j) override;
+  // fix_mbdyn_restart.cpp: the coupling's state, so a new LAMMPS process continues it with a peer
+  // that continues it too (resume yes), or ignores it and starts a new coupling (resume no).
+  void write_restart(FILE *fp) override;
+  void restart(char *buf) override;
 
   // One pose of an MBDyn point in the global frame: position, orientation (row-major, local to
   // global), velocity and angular velocity.
@@ -92,6 +96,11 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   // that is not a rotation or a pose that would put a coupled atom out of the box.
   void check_poses(const std::vector<Pose> &poses);
   void bind_atoms();
+  void index_members();  // the per-step lookup tables from members_ (bind_atoms, restart)
+  // fix_mbdyn_restart.cpp: after read_restart, the session continues MBDyn's step mbdyn_step_;
+  // between sub-steps, the step's message is received again and must be the one restored.
+  void resume_session();
+  void check_restored_config();  // init: what the restart file's coupling needs of this command
   void interpolate(double s, std::vector<Pose> &out) const;
   void apply_pose(const std::vector<Pose> &poses, bool set_x);
   bool fast_member_lookup() const;
@@ -132,6 +141,7 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   bool predictor_is_cn_ = true;     // predictor correct: MBDyn's predictions follow crank nicolson's so far
   bool warned_unverified_ = false;  // predictor correct: warned that no point tells the method
   bool startup_exchange_ = true;    // tight: the first message is the t0 (derivatives) exchange
+  bool resume_ = true;              // read_restart: continue the restart file's coupling (resume yes)
   double tolerance_ = 1e-9;
   int max_iterations_ = 10;
 
@@ -151,9 +161,17 @@ class FixMBDyn : public LAMMPS_NS::Fix {
   bool in_reeval_ = false;  // tight re-evaluation in progress
   int substep_ = 0;         // 0: the next step starts a new MBDyn step (receive)
   bool t0_answer_pending_ = false;
+  bool restored_ = false;           // the state came from a restart file; the session is not open yet
+  int restored_substeps_ = 0;       // substeps of the restart file's coupling (checked in init)
+  std::vector<unsigned char> restored_payload_;  // between sub-steps: the step's message as received
   bool first_is_step1_ = false;     // tight, startup_exchange no: first message already received
   std::vector<Pose> prev_msg_;      // loose, predictor correct: the previous message as received
   std::vector<Pose> msg_;           // loose, predictor correct: this message as received
+  // predictor correct with accelerations yes: per point a and omega_dot (6) of this message and
+  // of the previous one (MBDyn's converged accelerations of the two steps before)
+  std::vector<double> msg_acc_, prev_acc_;
+  void read_accelerations(std::vector<double> &out) const;
+  bool uses_accelerations() const;
   std::unordered_map<LAMMPS_NS::tagint, Member> members_;
   std::vector<std::pair<LAMMPS_NS::tagint, Member>> member_list_;  // members_ by tag
   bool one_atom_per_node_ = false;                                  // every node is `node atom`

@@ -65,7 +65,8 @@ PeerSession::PeerSession(PeerSession&& o) noexcept
       messages_received_(o.messages_received_),
       step_(o.step_),
       iteration_(o.iteration_),
-      last_answer_converged_(o.last_answer_converged_) {
+      last_answer_converged_(o.last_answer_converged_),
+      continued_(o.continued_) {
   o.state_ = State::Failed;
 }
 
@@ -161,7 +162,7 @@ Received PeerSession::receive_message() {
   Received r;
   r.kind = Received::Kind::Kinematics;
   r.message_index = messages_received_;
-  if (messages_received_ == 0) {
+  if (messages_received_ == 0 && !continued_) {
     step_ = 0;
     iteration_ = 0;
     r.starts_new_step = true;
@@ -178,6 +179,15 @@ Received PeerSession::receive_message() {
   last_answer_converged_ = false;
   state_ = State::AwaitingAnswer;
   return r;
+}
+
+void PeerSession::continue_after_step(std::uint64_t step) {
+  if (messages_received_ != 0)
+    throw std::logic_error("PeerSession::continue_after_step: called after the first message");
+  continued_ = true;
+  step_ = step;
+  iteration_ = 0;
+  last_answer_converged_ = true;
 }
 
 void PeerSession::require_answer_allowed(const char* what) const {

@@ -77,6 +77,10 @@ class PeerSession {
   void request_stop();
   // Error path: sends 5 if possible and closes; never throws.
   void abort() noexcept;
+  // A coupling continued by a new process (a peer restarted from a restart file, and an MBDyn
+  // that continues the same coupling): before the first receive(), the session counts as having
+  // answered MBDyn step `step` converged, so the next message is step + 1, not a start-up (t0).
+  void continue_after_step(std::uint64_t step);
 
   bool finished() const { return state_ == State::Finished; }
   const NodalConfig& config() const { return options_.nodal; }
@@ -101,6 +105,7 @@ class PeerSession {
   std::uint64_t step_ = 0;
   std::uint32_t iteration_ = 0;
   bool last_answer_converged_ = false;
+  bool continued_ = false;  // continue_after_step(): no start-up message in this session
 };
 
 }  // namespace dembridge::mbdyn

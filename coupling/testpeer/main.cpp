@@ -59,7 +59,12 @@ const char* kUsage =
     "                           --path, --steps, --dt, --gravity, --trajectory: t, then per body, reference\n"
     "                           first, x R(row by row) v w)\n"
     "  --kinematics-log FILE    one line per kinematics message: index, command, then per point\n"
-    "                           x(3) R(9, row by row) v(3) w(3), global frame\n";
+    "                           x(3) R(9, row by row) v(3) w(3), global frame\n"
+    "  --loads-log FILE         one line per loads answer: index, command, then per point the force\n"
+    "                           (and moment) as received (then the reference record's, if any)\n"
+    "  --save-state FILE        at the end, the state after the last step solved with the peer's loads\n"
+    "  --resume FILE            continue from such a state (socket, loose or tight): no start-up\n"
+    "                           exchange, the first message is the next step's (--steps: the last step)\n";
 
 // Status 2, as a command-line tool's usage error; never an uncaught exception (abort, 134).
 [[noreturn]] void usage_error(const std::string& why) {
@@ -289,6 +294,9 @@ int main(int argc, char** argv) {
     else if (a == "--reference-label")
       free_bodies.reference_label = static_cast<std::uint32_t>(parse_integer(a, value(), 0, 4294967295L));
     else if (a == "--point-labels") point_labels = parse_list(a, value());
+    else if (a == "--loads-log") s.loads_log = value();
+    else if (a == "--save-state") s.save_state = value();
+    else if (a == "--resume") s.resume_state = value();
     else if (a == "--file-in") s.files.in_path = value();
     else if (a == "--file-out") s.files.out_path = value();
     else if (a == "--file-precision") s.files.precision = static_cast<int>(parse_integer(a, value(), 1, 17));
@@ -297,12 +305,16 @@ int main(int argc, char** argv) {
       return 0;
     } else usage_error("unknown option " + a);
   }
-  if (!modal.mass.empty() || !modal.stiffness.empty()) return run_modal(s, modal, trajectory_file);
+  const bool files = !s.files.in_path.empty() || !s.files.out_path.empty();
+  const bool modal_body = !modal.mass.empty() || !modal.stiffness.empty();
+  if ((!s.resume_state.empty() || !s.save_state.empty()) &&
+      (files || modal_body || have_reference_body || !free_bodies.points.empty() || s.coupling == CouplingMode::None))
+    usage_error("--save-state and --resume are for the oscillator nodes over the socket, coupling loose or tight");
+  if (modal_body) return run_modal(s, modal, trajectory_file);
   if (have_reference_body || !free_bodies.points.empty()) {
     if (!have_reference_body) usage_error("--point-body needs --reference-body");
     return run_free_bodies(s, free_bodies, point_labels, trajectory_file);
   }
-  const bool files = !s.files.in_path.empty() || !s.files.out_path.empty();
   if (files && (s.files.in_path.empty() || s.files.out_path.empty())) usage_error("give both --file-in and --file-out");
   if (files && (s.coupling != CouplingMode::Loose || s.shape.reference_node || s.shape.accelerations ||
                 (s.shape.orientation != Orientation::None && s.shape.orientation != Orientation::Matrix)))

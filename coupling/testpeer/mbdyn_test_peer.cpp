@@ -1,4 +1,5 @@
 #include "mbdyn_test_peer.h"
+#include "peer_state_file.h"
 
 #include <cmath>
 #include <cstring>
@@ -40,6 +41,7 @@ class PeerRun {
         finish({0, "End of simulation", false});
         return out_;
       }
+      if (!s_.resume_state.empty()) resume();
       connect();
       negotiate();
       switch (s_.coupling) {
@@ -73,6 +75,30 @@ class PeerRun {
     sock_.close_now();
     out_.exit_status = e.status;
     out_.log = e.why;
+    if (!s_.save_state.empty() && have_done_) {
+      const std::string err = write_peer_state(s_.save_state, done_);
+      if (!err.empty()) out_.log += "; " + err;
+    }
+  }
+
+  // --resume: the state of the last step solved; the run goes on with the next step.
+  void resume() {
+    PeerState st;
+    const std::string err = read_peer_state(s_.resume_state, s_.shape.nodes, st);
+    if (!err.empty()) throw RunEnds{1, err, false};
+    model_.restore(st.state, st.older);
+    first_step_ = st.step + 1;
+    resumed_ = true;
+    record(st.step * s_.dt);
+    solved(st.step);
+  }
+
+  // The state after step k, solved with the peer's loads (what --save-state keeps).
+  void solved(int k) {
+    done_.step = k;
+    done_.state = model_.state();
+    done_.older = model_.older();
+    have_done_ = true;
   }
 
   void connect() {
@@ -221,6 +247,25 @@ class PeerRun {
     *klog_ << '\n';
   }
 
+  // answer index, command, then per point the force and the moment as received
+  void log_loads(std::uint8_t cmd, const LoadsMessage& m) {
+    if (!llog_) {
+      llog_ = std::make_unique<std::ofstream>(s_.loads_log);
+      llog_->precision(17);
+    }
+    *llog_ << out_.answers.size() - 1 << ' ' << int(cmd);
+    for (std::size_t i = 0; i < m.force.size(); ++i) {
+      for (double v : m.force[i]) *llog_ << ' ' << v;
+      if (i < m.moment.size())
+        for (double v : m.moment[i]) *llog_ << ' ' << v;
+    }
+    if (s_.shape.reference_node) {
+      for (double v : m.ref_force) *llog_ << ' ' << v;
+      for (double v : m.ref_moment) *llog_ << ' ' << v;
+    }
+    *llog_ << '\n';
+  }
+
   Answer read_answer() {
     Answer a;
     std::uint8_t cmd = 0;
@@ -242,6 +287,7 @@ class PeerRun {
       throw RunEnds{1, "StructExtForce: recv() failed (got " + std::to_string(got) + " of " +
                            std::to_string(want) + " bytes)", true};
     LoadsMessage m = decode_loads_payload(s_.shape, buf.data(), want);
+    if (!s_.loads_log.empty()) log_loads(cmd, m);
     if (s_.shape.labels) {
       if (s_.shape.reference_node && m.ref_label != s_.reference_label)
         throw RunEnds{1, "invalid reference node label (wanted " + std::to_string(s_.reference_label) +
@@ -294,17 +340,21 @@ class PeerRun {
   }
 
   void run_loose() {
-    send_kinematics(6, model_.state());  // start-up: initial state (spec §5)
-    read_and_take(0, true);             // the initial-derivatives solve reads one load message
-    if (model_.residual_norm(model_.state(), loads_, false) > s_.derivatives_tolerance)
-      model_.derivatives_update(loads_, s_.dt);
-    record(0.0);
-    for (int k = 1; k <= s_.steps; ++k) {
+    if (!resumed_) {
+      send_kinematics(6, model_.state());  // start-up: initial state (spec §5)
+      read_and_take(0, true);             // the initial-derivatives solve reads one load message
+      if (model_.residual_norm(model_.state(), loads_, false) > s_.derivatives_tolerance)
+        model_.derivatives_update(loads_, s_.dt);
+      record(0.0);
+      solved(0);
+    }
+    for (int k = first_step_; k <= s_.steps; ++k) {
       const std::vector<BodyState> predicted = model_.predict(s_.dt);
       send_kinematics(6, predicted);
       read_and_take(k, true);
       model_.accept(converge_with_frozen_loads(predicted));
       record(k * s_.dt);
+      solved(k);
     }
   }
 
@@ -314,7 +364,7 @@ class PeerRun {
     // Initial derivatives: iterates (and so exchanges) only if the residual at t0 without the
     // peer's loads is not already within tolerance (spec T2; the first message then is step 1's).
     bool outstanding = false, peer_converged = false;
-    for (int it = 0;; ++it) {
+    for (int it = 0; !resumed_; ++it) {
       if (outstanding) {
         peer_converged = read_and_take(0, false) || peer_converged;
         outstanding = false;
@@ -328,8 +378,11 @@ class PeerRun {
         outstanding = true;
       }
     }
-    record(0.0);
-    for (int k = 1; k <= s_.steps; ++k) {
+    if (!resumed_) {
+      record(0.0);
+      solved(0);
+    }
+    for (int k = first_step_; k <= s_.steps; ++k) {
       std::vector<BodyState> iterate = model_.predict(s_.dt);
       send_kinematics(2, iterate);  // send after predict
       outstanding = true;
@@ -351,6 +404,7 @@ class PeerRun {
       }
       model_.accept(iterate);
       record(k * s_.dt);
+      solved(k);
     }
   }
 
@@ -411,6 +465,11 @@ class PeerRun {
   NodeLoads loads_;
   std::vector<BodyState> last_sent_;
   std::unique_ptr<std::ofstream> klog_;  // pose the next loads answer refers to
+  std::unique_ptr<std::ofstream> llog_;  // --loads-log
+  PeerState done_;          // after the last step solved with the peer's loads
+  bool have_done_ = false;
+  int first_step_ = 1;      // --resume: the step after the restored one
+  bool resumed_ = false;
 };
 
 }  // namespace

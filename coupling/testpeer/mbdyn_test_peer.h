@@ -47,11 +47,16 @@ struct PeerSetup {
   Fault fault = Fault::None;
   int fault_message = 1;
   std::string kinematics_log;  // if set: one line per kinematics message sent (see main.cpp)
+  std::string loads_log;       // if set: one line per loads answer received (see main.cpp)
   std::function<void(int port)> on_listening;  // called once listening (TCP port if any)
   // File communicator instead of the socket (loose, `send after predict, no`): when files.in_path
   // is set. OUT at t0, IN read by the derivatives, OUT again after them, then per step: IN read
   // at the step's start, OUT of the converged state (the recorded real run's sequence).
   PeerFiles files;
+  // Across a LAMMPS restart (socket, loose or tight): save_state names the file the peer writes
+  // when it ends, its state after the last step it solved with the peer's loads; resume_state a
+  // file to continue from: no start-up (t0) exchange, the first message is the next step's.
+  std::string save_state, resume_state;
 };
 
 struct PeerSample {

@@ -74,6 +74,12 @@ class OscillatorModel {
     older_ = state_;
     state_ = s;
   }
+  // A resumed run: the converged state and the one a step before (empty before the first step).
+  void restore(const std::vector<BodyState>& s, const std::vector<BodyState>& older) {
+    state_ = s;
+    older_ = older;
+  }
+  const std::vector<BodyState>& older() const { return older_; }
 
   // Norm of MBDyn's residual for state s under loads; without the momentum rows when
   // with_momentum is false (the initial-derivatives solve, where they are c F by construction).

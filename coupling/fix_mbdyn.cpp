@@ -1044,14 +1044,18 @@ void FixMBDyn::correct_prediction(const std::vector<Pose> &msg)
   // (the trapezoidal rule), the same for w and the orientation. Pose A of the sub-step
   // interpolation becomes the recovered converged state.
   const double T = substeps_ * update->dt;
-  const bool acc = uses_accelerations() && prev_acc_.size() == msg_acc_.size() && !msg_acc_.empty();
-  if (prev_msg_.size() != msg.size()) {
+  // the first step's message (no previous one): corrected only with accelerations, from a_{k-1}
+  // alone (MBDyn's first step is a crank nicolson step whatever its method)
+  const bool first = prev_msg_.size() != msg.size();
+  const bool acc = uses_accelerations() && !msg_acc_.empty() && (first || prev_acc_.size() == msg_acc_.size());
+  if (first && !acc) {
     prev_msg_ = msg;
     prev_acc_ = msg_acc_;
     return;
   }
-  const PredictorEvidence evidence =
-      predictor_is_cn_ ? follows_crank_nicolson(prev_msg_, msg, T) : PredictorEvidence::Other;
+  const PredictorEvidence evidence = first              ? PredictorEvidence::CrankNicolson
+                                     : predictor_is_cn_ ? follows_crank_nicolson(prev_msg_, msg, T)
+                                                        : PredictorEvidence::Other;
   if (evidence == PredictorEvidence::Unknown && !warned_unverified_ && comm->me == 0) {
     warned_unverified_ = true;
     error->warning(FLERR, where() + ": predictor correct is right only for MBDyn's `method: crank nicolson`, and "
@@ -1075,14 +1079,15 @@ void FixMBDyn::correct_prediction(const std::vector<Pose> &msg)
     return;
   }
   for (std::size_t k = 0; k < msg.size(); ++k) {
-    const Pose &P = msg[k], &Q = prev_msg_[k];
+    const Pose &P = msg[k], &Q = first ? msg[k] : prev_msg_[k];
     Pose A = P, B = P;
     V3 back{}, half{};
     // With MBDyn's accelerations (crank nicolson's prediction sends those of the converged step
     // k-1), the end-of-step velocity is the trapezoidal rule with a_k extrapolated linearly from
     // a_{k-1} and a_{k-2}: v* - v_{k-1} = T/2 (3 a_{k-1} - a_{k-2}), one order more than
-    // v_{k-1} - v_{k-2} = T/2 (a_{k-1} + a_{k-2}) below.
-    const double *a = acc && k < num_points_ ? &msg_acc_[6 * k] : nullptr, *b = a ? &prev_acc_[6 * k] : nullptr;
+    // v_{k-1} - v_{k-2} = T/2 (a_{k-1} + a_{k-2}) below. At the first step: v* - v_0 = T a_0.
+    const double *a = acc && k < num_points_ ? &msg_acc_[6 * k] : nullptr;
+    const double *b = a && !first ? &prev_acc_[6 * k] : a;  // b = a: 3 a - b = 2 a
     for (int c = 0; c < 3; ++c) {
       A.x[c] = P.x[c] - T * P.v[c];
       const double dv = a ? 0.5 * T * (3 * a[c] - b[c]) : P.v[c] - Q.v[c];

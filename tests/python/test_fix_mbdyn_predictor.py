@@ -12,7 +12,7 @@ import tempfile
 import pytest
 
 from dembridge import plugin_path
-from test_fix_mbdyn import M, PEER, X0, Peer, analytic_x, read_traj, run_lammps, spring_mass_deck
+from test_fix_mbdyn import C, K, M, PEER, X0, Peer, analytic_x, read_traj, run_lammps, spring_mass_deck
 
 pytestmark = pytest.mark.skipif(PEER is None or not os.path.exists(plugin_path()),
                                 reason="needs the plugin and the mbdyn_testpeer executable (build both)")

@@ -154,7 +154,7 @@ void FixInsertPack::setup(int)
   if (resume_if_more_) {  // as LIGGGHTS: a finished insertion resumes after a restart if the total was raised
     resume_if_more_ = false;
     const bool more = rate_ && (k_.n_infinite || ninserted_ < ninsert_);
-    next_reneighbor = more ? first_next_ : 0;
+    next_reneighbor = more ? std::max(first_next_, update->ntimestep + 1) : 0;  // a past 'start': the next step
     if (more && comm->me == 0)
       utils::logmesg(lmp, "INFO: Particle insertion {}: the total was raised after the restart, resuming at step {}\n",
                      id, next_reneighbor);
@@ -327,7 +327,10 @@ void FixInsertPack::restart(char *buf)
     r.get(region_rng_);
     if (next != 0) next_reneighbor = next;
     else if (k_.insert_every == 0 || !rate_) next_reneighbor = 0;  // insert_every once: done
-    else resume_if_more_ = true;
+    else {
+      next_reneighbor = 0;  // done unless setup() finds the total raised
+      resume_if_more_ = true;
+    }
   } catch (const std::invalid_argument &e) {
     error->all(FLERR, prefix() + "restart: " + e.what());
   }

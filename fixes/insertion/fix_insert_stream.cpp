@@ -218,7 +218,7 @@ void FixInsertStream::setup(int)
   compute_insertion_properties();
   if (resume_if_more_) {  // as LIGGGHTS: a finished insertion resumes after a restart if the total was raised
     resume_if_more_ = false;
-    next_reneighbor = ninserted_ < ninsert_ ? first_next_ : 0;
+    next_reneighbor = ninserted_ < ninsert_ ? std::max(first_next_, update->ntimestep + 1) : 0;  // a past 'start': the next step
     if (next_reneighbor && comm->me == 0)
       utils::logmesg(lmp, "INFO: Particle insertion {}: the total was raised after the restart, resuming at step {}\n",
                      id, next_reneighbor);
@@ -428,7 +428,10 @@ void FixInsertStream::restart(char *buf)
     r.get(insert_rng_);
     r.get(face_rng_);
     if (next != 0) next_reneighbor = next;
-    else resume_if_more_ = true;
+    else {
+      next_reneighbor = 0;  // done unless setup() finds the total raised
+      resume_if_more_ = true;
+    }
   } catch (const std::invalid_argument &e) {
     error->all(FLERR, prefix() + "restart: " + e.what());
   }

@@ -136,6 +136,8 @@ def test_run_pre_no_equals_one_run_bitwise(tmp_path_factory):
      "Fix insert/stream (id ins_s): restart: seed 86028121 differs from the seed 49979687"),
     ("discrete 32452843 2", "discrete 86028121 2",
      "Fix particledistribution/discrete (id pdd1) restart: seed 86028121 differs from the seed 32452843"),
+    ("label setup\n", "label setup\ntimestep 4e-5\n",
+     "Fix insert/stream (id ins_s): the timestep (0.000040) differs from the one (0.000050) of the run that wrote"),
     ("radius constant 0.003", "radius constant 0.0025",
      "Fix particledistribution/discrete (id pdd1) restart: template pts2: its radius differs"),
 ])
@@ -147,6 +149,15 @@ def test_changed_definition_after_restart_is_an_error(restart_file, old, new, ex
     log = open(restart_file / "log.changed").read()
     assert r.returncode != 0 and "ERROR" in log
     assert expected in log, log[-800:]
+
+
+def test_wear_dropped_with_a_warning_when_wear_is_off_after_restart(restart_file):
+    text = open(restart_file / "in.insertion_restart").read()
+    (restart_file / "in.nowear").write_text(text.replace(" wear finnie", "").replace(
+        "dump w all mesh/vtk 1 ${out}.wear_*.vtk wear cad", ""))
+    _lmp(restart_file, "second", "nowear", deck="in.nowear")
+    assert "WARNING: fix mesh/surface/stress (id cad) restart: the restart file holds the wear of this mesh, " \
+           "but 'wear finnie' is off now" in open(restart_file / "log.nowear").read()
 
 
 def test_finished_insertion_resumes_with_a_larger_total(tmp_path_factory):

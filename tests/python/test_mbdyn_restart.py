@@ -1,8 +1,8 @@
 """Restart of a coupled run: fix mbdyn ... mapping (MBDyn's `external structural mapping`) driving
 a deforming mesh with particles on it, played by the test peer (15 mapped points, free point
 masses with an initial bending velocity; the grid of tests/data/mbdyn-ext/mapping_beam).
-10 MBDyn steps of 3 LAMMPS steps. The split runs write_restart after 15 LAMMPS steps (the end of
-MBDyn step 5) or after 16 (between two sub-steps of step 6) and end (LAMMPS answers 5, the peer
+10 MBDyn steps of 3 LAMMPS steps, loose and tight. The split runs write_restart after 15 LAMMPS
+steps (the end of MBDyn step 5) or after 16 (between two sub-steps of step 6) and end (LAMMPS answers 5, the peer
 saves its state); a new LAMMPS process reads the restart file and runs the remaining steps with a
 new peer process resumed from the saved state. The reference is one LAMMPS process with the same
 two `run` commands and one peer process: LAMMPS itself recomputes the forces at a run's setup
@@ -35,12 +35,16 @@ def rest_points():
     return [q[3 * j:3 * j + 3] for j in range(M_POINTS)]
 
 
-def peer_args(sock, traj, loads, save=None, resume=None):
+def peer_args(sock, traj, loads, save=None, resume=None, coupling="loose"):
     args = [PEER, "--path", sock, "--accept-timeout", "30", "--io-timeout", "30", "--nodes", str(M_POINTS),
-            "--orientation", "none", "--steps", str(STEPS), "--dt", str(SUB * DT), "--mass", "2",
+            "--orientation", "none", "--coupling", coupling, "--steps", str(STEPS), "--dt", str(SUB * DT), "--mass", "2",
             "--trajectory", traj, "--loads-log", loads]
     for x, y, z in rest_points():
         args += ["--x0", f"{x!r},{y!r},{z!r}", "--v0", f"0,0,{0.4 * x * x!r}"]  # bending upwards
+    if coupling == "tight":
+        # a constant force on the points: MBDyn's initial residual is not zero, so its derivatives
+        # solve exchanges the t0 pose (the mesh's rest pose) first
+        args += ["--force", "0,0,1"]
     if save:
         args += ["--save-state", save]
     if resume:
@@ -142,36 +146,42 @@ def workdir(tmp_path_factory):
     return wd
 
 
-def reference(wd, first):
+def reference(wd, first, coupling):
     """One LAMMPS process (`run first`, `run` the rest) and one peer process."""
-    tag = f"ref{first}"
+    tag = f"ref{first}{coupling}"
     run, rc, out, traj, loads = coupled(
-        wd, lambda s: fresh_deck(s, wd, tag, first, then=SUB * STEPS - first), tag)
+        wd, lambda s: fresh_deck(s, wd, tag, first, f"coupling {coupling}", then=SUB * STEPS - first), tag,
+        coupling=coupling)
     assert run.returncode == 0 and rc == 0, (run.stdout[-3000:], out)
     return tag, lines(traj), lines(loads)
 
 
-def split_run(wd, first, tag):
+def split_run(wd, first, tag, coupling):
     """`run first` + write_restart; a new process reads it and runs to the end; new peer processes."""
     restart = os.path.join(wd, f"{tag}.restart")
     state = os.path.join(wd, f"{tag}.state")
+    fix = f"coupling {coupling}"
     run1, rc1, out1, traj1, loads1 = coupled(
-        wd, lambda s: fresh_deck(s, wd, tag + "1", first, write=restart), tag + "1", save=state)
+        wd, lambda s: fresh_deck(s, wd, tag + "1", first, fix, write=restart), tag + "1", save=state, coupling=coupling)
     assert run1.returncode == 0, run1.stdout[-3000:]
     assert rc1 == 2 and "peer requested end" in out1, out1  # LAMMPS answered 5 when it ended
     run2, rc2, out2, traj2, loads2 = coupled(
-        wd, lambda s: restarted_deck(s, wd, tag + "2", SUB * STEPS - first, restart), tag + "2", resume=state)
+        wd, lambda s: restarted_deck(s, wd, tag + "2", SUB * STEPS - first, restart, fix), tag + "2", resume=state,
+        coupling=coupling)
     assert run2.returncode == 0 and rc2 == 0, (run2.stdout[-3000:], out2)
     return lines(traj1), lines(loads1), lines(traj2), lines(loads2)
 
 
-@pytest.mark.parametrize("first", [SUB * 5, SUB * 5 + 1], ids=["end_of_mbdyn_step", "between_substeps"])
-def test_restart_equals_the_split_run_bitwise(workdir, first):
+@pytest.mark.parametrize("coupling,first", [("loose", SUB * 5), ("loose", SUB * 5 + 1), ("tight", SUB * 5 + 1)],
+                         ids=["loose_end_of_mbdyn_step", "loose_between_substeps", "tight_between_substeps"])
+def test_restart_equals_the_split_run_bitwise(workdir, coupling, first):
     wd = workdir
-    ref, traj, loads = reference(wd, first)
-    assert len(traj) == STEPS + 1 and len(loads) == STEPS + 1
-    tag = f"r{first}"
-    traj1, loads1, traj2, loads2 = split_run(wd, first, tag)
+    ref, traj, loads = reference(wd, first, coupling)
+    answers = [l.split()[1] for l in loads]  # the command of each loads message: 6 converged, 2 an iterate
+    assert len(traj) == STEPS + 1 and answers.count("6") == STEPS + 1
+    assert (coupling == "tight") == ("2" in answers)
+    tag = f"r{first}{coupling}"
+    traj1, loads1, traj2, loads2 = split_run(wd, first, tag, coupling)
     done = first // SUB  # MBDyn steps solved with LAMMPS' loads before the restart
     # the peer: its trajectory (t, then x v theta theta' per point at 17 digits) and every loads
     # message it received (without the answer index, which each process counts from 0)
@@ -187,7 +197,7 @@ def test_restart_equals_the_split_run_bitwise(workdir, first):
     assert not differ, f"steps {differ} differ"
     # the particles do press on the mesh (else the loads would be zero and the test would check little)
     pressing = sum(1 for l in loads if max(abs(float(v)) for v in l.split()[2:]) > 1.0)
-    print(f"restart after {first} LAMMPS steps: {len(received)} loads messages, {len(traj2)} peer states, "
+    print(f"{coupling}, restart after {first} LAMMPS steps: {len(received)} loads messages, {len(traj2)} peer states, "
           f"{SUB * STEPS - first + 1} steps of particles and vertices equal bit for bit; {pressing} exchanges "
           f"with point loads > 1 N")
     assert pressing >= STEPS - 1

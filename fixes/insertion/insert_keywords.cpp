@@ -11,9 +11,25 @@ namespace {
 const char *const kGeneral[] = {"distributiontemplate", "maxattempt", "nparticles", "mass", "massrate",
                                 "particlerate", "insert_every", "every", "start", "overlapcheck", "all_in",
                                 "random_distribute", "verbose", "vel", "omega"};
-// accepted by LIGGGHTS 3.8 but not implemented here: refused rather than ignored
-const char *const kRefused[] = {"set_property", "orientation", "compress_tags", "insert_every_time", "interval",
-                                "start_time", "t_zero", "stop_time", "t_last", "inclusion_mesh", "inside", "outside"};
+// accepted by LIGGGHTS 3.8 but not implemented here: refused rather than ignored, with what to use instead
+struct Refused {
+  const char *key, *instead;
+};
+const Refused kRefused[] = {
+    {"set_property", "give the value as the default of its fix property/atom (new particles get it), or set it "
+                     "afterwards with 'set region ... property/atom NAME V'"},
+    {"orientation", "it orients multisphere and superquadric particles, which dembridge does not have; spheres need "
+                    "none: remove it"},
+    {"compress_tags", "renumber the atoms between runs with LAMMPS's 'reset_atoms id'"},
+    {"insert_every_time", "give 'insert_every N' in steps (N = time / timestep)"},
+    {"interval", "give 'insert_every N' in steps (N = time / timestep)"},
+    {"start_time", "give 'start N' in steps (N = time / timestep)"},
+    {"t_zero", "give 'start N' in steps (N = time / timestep)"},
+    {"stop_time", "unfix the insertion after 'run N' instead"},
+    {"t_last", "unfix the insertion after 'run N' instead"},
+    {"inclusion_mesh", "give a LAMMPS region (intersect/union) instead of the mesh"},
+    {"inside", "give a LAMMPS region (intersect/union) instead of the mesh"},
+    {"outside", "give a LAMMPS region (intersect/union) instead of the mesh"}};
 
 void need(const std::vector<std::string> &a, int i, int n, const std::string &what)
 {
@@ -36,8 +52,8 @@ int parse_general_keywords(const std::vector<std::string> &a, InsertKeywords &k)
   int i = 5;
   while (i < n) {
     const std::string &key = a[i];
-    for (const char *r : kRefused)
-      if (key == r) throw std::invalid_argument("keyword '" + key + "' is not supported by dembridge");
+    for (const Refused &r : kRefused)
+      if (key == r.key) throw std::invalid_argument("keyword '" + key + "' is not supported by dembridge: " + r.instead);
     if (key == "distributiontemplate") {
       need(a, i, 2, "a fix ID");
       k.distribution = a[i + 1];
@@ -180,8 +196,9 @@ void parse_stream_keywords(const std::vector<std::string> &a, int i, StreamKeywo
     } else if (key == "parallel") {
       need(a, i, 2, "yes or no");
       if (yes_no_arg(a[i + 1], key))
-        throw std::invalid_argument("'parallel yes' is not supported by dembridge (every rank draws the whole "
-                                    "extrusion volume, as 'parallel no')");
+        throw std::invalid_argument("'parallel yes' is not supported by dembridge: use 'parallel no' (the default; "
+                                    "every rank draws the whole extrusion volume, and the particles are the same on "
+                                    "any number of ranks)");
     } else if (is_general_keyword(key)) {
       throw std::invalid_argument("unknown keyword or wrong keyword order: '" + key +
                                   "' at this place: LIGGGHTS 3.8 needs the general keywords (" + key +

@@ -14,6 +14,7 @@ import oracle_harness as oh  # noqa: E402
 from bad_input_check import assert_error  # noqa: E402
 from test_bad_input import run_deck  # noqa: E402
 from dembridge import thermo_rows  # noqa: E402
+from dembridge.outputs import read_dump_rows  # noqa: E402
 
 pytestmark = pytest.mark.two_cores  # 2 ranks against a LIGGGHTS run that both cases share
 
@@ -73,6 +74,57 @@ def test_massflow_against_liggghts(liggghts, tmp_path, nprocs):
         assert set(ours) <= set(theirs)
 
 
+def delete_deck(steps=14000):
+    text = (CASE / "in.delete_atoms").read_text().replace("FACE", str(FACE))
+    return text.replace("run             14000", f"run             {steps}")
+
+
+@pytest.fixture(scope="module")
+def liggghts_delete(tmp_path_factory):
+    wd = tmp_path_factory.mktemp("liggghts_delete")
+    oh.run_liggghts(FUNNEL, wd, deck_text=delete_deck())
+    return wd
+
+
+def dump_atoms(path):
+    """{step: the frame's atom rows (id, x, y, z, vx, vy, vz) sorted by id} of the %.17g text dump."""
+    return {step: sorted(tuple(r) for r in rows) for step, rows in read_dump_rows(path).items()}
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_delete_atoms_deletes_the_particles_liggghts_deletes(liggghts_delete, tmp_path, nprocs):
+    """delete_atoms yes: 147 of the 200 particles counted and deleted as they pass the face. One rank: every
+    thermo column (with f_mf[5], f_mf[6]: the mass and number deleted) and every remaining particle
+    (%.17g) as LIGGGHTS's; the same crossing-file lines. Two ranks (the first 6000 steps): the same counts
+    and particles deleted, the masses and states to round-off."""
+    steps = 14000 if nprocs == 1 else 6000
+    oh.run_lammps(oh.liggghts_to_lammps_deck(delete_deck(steps), syntax="3x"), tmp_path, nprocs=nprocs,
+                  files=[FUNNEL / "data.txt", FUNNEL / "funnel.stl"])
+    ref, got = rows(liggghts_delete / "log.liggghts"), rows(tmp_path / "log.lammps")
+    assert len(ref) == 15 and len(got) == steps // 1000 + 1
+    assert ref[-1][1] == 53 and ref[-1][3] == 147 and ref[-1][7] == 147  # the deck does delete
+    for a, b in zip(ref, got):
+        assert a[:2] == b[:2]  # step, atoms left
+        assert (a[3], a[7], a[8]) == (b[3], b[7], b[8])  # counted, deleted, point_at_outlet count
+        assert a[7] <= a[3] and a[1] + a[7] == 200  # deleted at the next re-neighbouring after the count
+        if nprocs == 1:
+            assert a == b  # every column as printed (%.17g)
+        else:
+            for col in (2, 4, 5, 6):
+                x, y = a[col], b[col]
+                assert abs(x - y) <= 1e-12 * abs(x), (a[0], col, x, y)
+    ref_d, got_d = dump_atoms(liggghts_delete / "dump.txt"), dump_atoms(tmp_path / "dump.txt")
+    for step, atoms in got_d.items():
+        assert [r[0] for r in atoms] == [r[0] for r in ref_d[step]]  # the same particles left
+        if nprocs == 1:
+            assert atoms == ref_d[step]
+        else:
+            assert max(abs(x - y) for p, q in zip(atoms, ref_d[step]) for x, y in zip(p[1:], q[1:])) <= 1e-9
+    ours, theirs = crossing_lines(tmp_path, nprocs), crossing_lines(liggghts_delete, 1)
+    assert len(ours) == int(got[-1][3])
+    assert ours == theirs if nprocs == 1 else set(ours) <= set(theirs)
+
+
 BASE = ["units si", "atom_style sphere", "boundary f f f", "newton off", "comm_modify vel yes",
         "region box block -0.05 0.05 -0.05 0.05 -0.05 0.05", "create_box 1 box",
         "create_atoms 1 single 0.0 0.0 0.04 units box", "set group all diameter 0.008 density 2500",
@@ -91,7 +143,9 @@ BAD = {
     "count_word": (BASE + [M + " mesh face vec_side 0 0 -1 count twice"], ["(id mf)", "count", "'twice'"]),
     "outlet_multiple": (BASE + [M + " mesh face point_at_outlet 0 0 -1"], ["(id mf)", "point_at_outlet", "count once"]),
     "inside_out_first": (BASE + [M + " mesh face inside_out point_at_outlet 0 0 -1 count once"], ["(id mf)", "inside_out"]),
-    "delete_atoms": (BASE + [M + " mesh face vec_side 0 0 -1 count once delete_atoms yes"], ["(id mf)", "delete_atoms", "not implemented"]),
+    "delete_atoms_word": (BASE + [M + " mesh face vec_side 0 0 -1 count once delete_atoms maybe"], ["(id mf)", "delete_atoms", "'maybe'"]),
+    "delete_atoms_no_map": (BASE + [M + " mesh face vec_side 0 0 -1 count once delete_atoms yes", "run 0"],
+                            ["(id mf)", "delete_atoms yes", "atom_modify map array"]),
     "unknown_keyword": (BASE + [M + " mesh face vec_side 0 0 -1 colour red"], ["(id mf)", "'colour'", "unknown keyword"]),
     "not_planar": (BASE + [M + " mesh cone vec_side 0 0 -1", "run 0"], ["(id mf)", "planar", "point_at_outlet"]),
     "sum_property_missing": (BASE + [M + " mesh face vec_side 0 0 -1 sum_property Temp", "run 0"],

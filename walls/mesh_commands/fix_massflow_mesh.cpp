@@ -1,6 +1,7 @@
 #include "fix_massflow_mesh.h"
 
 #include "fix_mesh_surface.h"
+#include "lammps_atom_vec.h"
 #include "fix_property_atom_liggghts.h"
 #include "math/vec3.h"
 #include "mesh_args.h"
@@ -12,6 +13,7 @@
 #include "modify.h"
 #include "update.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -72,10 +74,10 @@ FixMassflowMesh::FixMassflowMesh(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, n
     } else if (key == "screen") {
       screen_ = a.yes_no("screen");
     } else if (key == "delete_atoms") {
-      if (a.yes_no("delete_atoms")) a.fail("delete_atoms yes", "not implemented (use a fix evaporate or delete_atoms region)");
+      delete_atoms_ = a.yes_no("delete_atoms");
     } else {
       a.fail("'" + key + "'", "unknown keyword (expected mesh, vec_side, point_at_outlet, inside_out, count, "
-                              "sum_property, file, append, writeTime, screen)");
+                              "sum_property, file, append, writeTime, screen, delete_atoms)");
     }
   }
   if (!once_ && point_at_outlet_) a.fail("point_at_outlet", "requires 'count once'");
@@ -127,11 +129,13 @@ void FixMassflowMesh::post_constructor()
   counter_ = FixPropertyAtomLiggghts::find(lmp, counter_id_);
 }
 
-int FixMassflowMesh::setmask() { return POST_INTEGRATE; }
+int FixMassflowMesh::setmask() { return POST_INTEGRATE | (delete_atoms_ ? PRE_EXCHANGE : 0); }
 
 void FixMassflowMesh::init()
 {
   if (!atom->rmass_flag) error->all(FLERR, cmd_ + ": requires atoms that have a per-particle mass");
+  if (delete_atoms_ && atom->map_style == Atom::MAP_NONE)
+    error->all(FLERR, cmd_ + ": delete_atoms yes requires an atom map (add 'atom_modify map array', as LIGGGHTS asks)");
   mesh_ = FixMeshSurface::find(lmp, mesh_id_, cmd_ + ": mesh");
   mesh_->keep_whole();
   counter_ = FixPropertyAtomLiggghts::find(lmp, counter_id_);
@@ -159,7 +163,7 @@ void FixMassflowMesh::write_line(FILE *fp, int i)
   std::fflush(fp);
 }
 
-void FixMassflowMesh::count_particle(int i, double dot, double &mass, int &n, double &prop)
+void FixMassflowMesh::count_particle(int i, int tri, double dot, double &mass, int &n, double &prop)
 {
   double &c = counter_->values()[i];
   if (c == -1.0) {  // first time near the mesh: only note the side
@@ -175,8 +179,13 @@ void FixMassflowMesh::count_particle(int i, double dot, double &mass, int &n, do
         std::fprintf(screen, " %d %4.4g %4.4g %4.4g %4.4g %4.4g %4.4g %4.4g \n ", int(atom->tag[i]), 2. * atom->radius[i],
                      atom->x[i][0], atom->x[i][1], atom->x[i][2], atom->v[i][0], atom->v[i][1], atom->v[i][2]);
       if (fp_) write_line(fp_, i);
+      if (delete_atoms_) {  // as LIGGGHTS: the flag starts again (-1); the particle goes at the next re-neighbouring
+        c = -1.;
+        marks_step_.push_back({tri, i, atom->tag[i]});
+        return;
+      }
     }
-    c = once_ ? 2. : 1.;
+    if (!delete_atoms_) c = once_ ? 2. : 1.;  // LIGGGHTS leaves the flag of a deleting fix alone here
   } else {
     c = 0.;
   }
@@ -213,14 +222,54 @@ void FixMassflowMesh::post_integrate()
         const double delta[3] = {x[i][0] - pref_[0], x[i][1] - pref_[1], x[i][2] - pref_[2]};
         dot = dot3(delta, nvec_);
       }
-      count_particle(i, dot, mass_this, n_this, prop_this);
+      count_particle(i, cand[k], dot, mass_this, n_this, prop_this);
     }
+  }
+  if (!marks_step_.empty()) {
+    // LIGGGHTS marks triangle by triangle, each triangle's particles in its bin order; ascending local
+    // index is that order for particles in one bin
+    std::stable_sort(marks_step_.begin(), marks_step_.end(),
+                     [](const Mark &a, const Mark &b) { return a.tri != b.tri ? a.tri < b.tri : a.local < b.local; });
+    for (const Mark &m : marks_step_) to_delete_.push_back(m.tag);
+    marks_step_.clear();
   }
   double sums[3] = {mass_this, prop_this, double(n_this)}, all[3] = {0.0, 0.0, 0.0};
   MPI_Allreduce(sums, all, 3, MPI_DOUBLE, MPI_SUM, world);  // one reduction per step (counts exact in a double)
   mass_ += all[0];
   nparticles_ += long(all[2]);
   property_sum_ += all[1];
+}
+
+// delete_atoms yes: before the exchange and the neighbour build of a re-neighbouring step, as LIGGGHTS
+// (the last local particle takes the deleted one's place, in the order they were counted).
+void FixMassflowMesh::pre_exchange()
+{
+  double mass = 0.0;
+  int n = 0;
+  for (const tagint tag : to_delete_) {
+    const int i = atom->map(tag);
+    if (i < 0 || i >= atom->nlocal) continue;  // counted twice before a re-neighbouring: already gone
+    mass += atom->rmass[i];
+    ++n;
+    const int last = atom->nlocal - 1;
+    atom->map_one(tag, -1);
+    if (i != last) {
+      atom->avec->copy(last, i, 1);
+      atom->map_one(atom->tag[i], i);
+    }
+    atom->nlocal--;
+  }
+  to_delete_.clear();
+  double local[2] = {mass, double(n)}, all[2] = {0.0, 0.0};
+  MPI_Allreduce(local, all, 2, MPI_DOUBLE, MPI_SUM, world);
+  mass_deleted_ += all[0];
+  nparticles_deleted_ += long(all[1]);
+  if (all[1] == 0.0) return;
+  const bigint nlocal = atom->nlocal;
+  MPI_Allreduce(&nlocal, &atom->natoms, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  atom->nghost = 0;
+  atom->map_init();
+  atom->map_set();
 }
 
 double FixMassflowMesh::compute_vector(int index)
@@ -234,13 +283,15 @@ double FixMassflowMesh::compute_vector(int index)
   if (index == 1) return double(nparticles_);
   if (index == 2) return delta_t_ == 0. ? 0. : (mass_ - mass_last_) / delta_t_;
   if (index == 3) return delta_t_ == 0. ? 0. : double(nparticles_ - nparticles_last_) / delta_t_;
+  if (index == 4) return mass_deleted_;
+  if (index == 5) return double(nparticles_deleted_);
   if (index == 6 && property_) return property_sum_;
-  return 0.;  // 4, 5: mass and count deleted (delete_atoms is not implemented)
+  return 0.;
 }
 
 void FixMassflowMesh::write_restart(FILE *fp)
 {
-  const double list[6] = {mass_, t_count_, mass_last_, double(nparticles_last_), 0.0, 0.0};
+  const double list[6] = {mass_, t_count_, mass_last_, double(nparticles_last_), mass_deleted_, double(nparticles_deleted_)};
   if (comm->me == 0) {
     const int size = int(sizeof list);
     std::fwrite(&size, sizeof(int), 1, fp);
@@ -257,6 +308,8 @@ void FixMassflowMesh::restart(char *buf)
   t_count_ = list[1];
   mass_last_ = list[2];
   nparticles_last_ = long(list[3]);
+  mass_deleted_ = list[4];
+  nparticles_deleted_ = long(list[5]);
 }
 
 static RegisterStyle reg_massflow("fix", "massflow/mesh", "LIGGGHTS mass flow through a mesh face",

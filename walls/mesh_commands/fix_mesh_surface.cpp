@@ -12,7 +12,6 @@
 #include "atom.h"
 #include "comm.h"
 #include "domain.h"
-#include "mesh_box_extent.h"
 #include "error.h"
 #include "modify.h"
 #include "neighbor.h"
@@ -148,7 +147,7 @@ FixMeshSurface::~FixMeshSurface() = default;
 
 int FixMeshSurface::setmask()
 {
-  int mask = PRE_NEIGHBOR | POST_NEIGHBOR | PRE_FORCE;
+  int mask = PRE_EXCHANGE | PRE_NEIGHBOR | POST_NEIGHBOR | PRE_FORCE | POST_RUN;
   if (vector_flag) mask |= FINAL_INTEGRATE;
   return mask;
 }
@@ -179,8 +178,8 @@ void FixMeshSurface::init()
     if (auto *mv = dynamic_cast<FixMoveMesh *>(f); mv && mv->mesh_id() == id) movers_.push_back(mv);
   if (conveyor_ && !movers_.empty())
     error->all(FLERR, std::string("fix ") + style + " (id " + id + "): surface_vel/surface_ang_vel cannot be combined with fix move/mesh");
-  widen_shrink_wrap_minimum(domain, *mesh_, atom->natoms);  // before the setup's reset_box, as LIGGGHTS's box_extent
-  check_domain();
+  // an empty box is wrapped around the meshes already for the other fixes' init and setup
+  if (atom->natoms == 0 && leads_box_wrap()) ShrinkWrapAroundMeshes::set_empty_box(domain, all_meshes_extent());
   if (wear_) {
     const std::string caller = std::string("fix ") + style + " (id " + id + ") wear finnie";
     const property::GlobalProperty *k = FixPropertyGlobal::find(lmp, "k_finnie");
@@ -259,11 +258,51 @@ void FixMeshSurface::remember_nodes()
   for (int t = 0; t < mesh_->size(); ++t) nodes_at_build_[t] = mesh_->nodes(t);
 }
 
-void FixMeshSurface::setup_pre_neighbor() { remember_nodes(); }
+// LIGGGHTS's reset_box takes the mesh nodes into a shrink-wrapped box's extent, at the setup and at
+// every re-neighbouring (a moving mesh carries the box along): the faces are opened before the
+// reset_box of the re-neighbouring (pre_exchange) and closed after it (pre_neighbor).
+void FixMeshSurface::setup_pre_exchange() { open_box_wrap(); }
+void FixMeshSurface::pre_exchange() { open_box_wrap(); }
+void FixMeshSurface::post_run() { close_box_wrap(); }
+
+void FixMeshSurface::open_box_wrap()
+{
+  if (leads_box_wrap()) box_wrap_.open(domain, all_meshes_extent(), atom->natoms);
+}
+
+// The first mesh fix in fix order wraps the box around all of them.
+bool FixMeshSurface::leads_box_wrap() const
+{
+  for (Fix *f : modify->get_fix_list())
+    if (dynamic_cast<FixMeshSurface *>(f)) return f == this;
+  return false;
+}
+
+MeshExtent FixMeshSurface::all_meshes_extent() const
+{
+  MeshExtent all;
+  for (Fix *f : modify->get_fix_list())
+    if (auto *m = dynamic_cast<FixMeshSurface *>(f)) {
+      const MeshExtent e = m->extent();
+      if (!e.empty) all.add(e.lo, e.hi);
+    }
+  return all;
+}
+
+// A part of a mesh is kept only while it never moved: its extent is the whole mesh's at the split.
+MeshExtent FixMeshSurface::extent() const { return mesh_->whole() ? node_extent(*mesh_) : split_extent_; }
+
+void FixMeshSurface::setup_pre_neighbor()
+{
+  close_box_wrap();
+  check_domain();  // in the box of the run, wrapped around the meshes (LIGGGHTS checks at its setup too)
+  remember_nodes();
+}
 
 // §7.3: a moving mesh recomputes its vectors from the nodes at every re-neighbouring step.
 void FixMeshSurface::pre_neighbor()
 {
+  close_box_wrap();
   if (moving()) mesh_->refresh_geometry();
   remember_nodes();
   rebuilt_this_step_ = true;
@@ -350,6 +389,7 @@ void FixMeshSurface::fit_to_reach(double s)
     kept_hi_[d] = std::min(std::max(hi[d], need_hi[d]) + grow, mhi[d]);
   }
   if (!mesh_->whole()) reload_whole();
+  split_extent_ = node_extent(*mesh_);
   std::vector<int> ids;
   for (int t = 0; t < mesh_->size(); ++t) {
     bool meets = true;

@@ -25,6 +25,7 @@
 
 #include "fix.h"
 
+#include "mesh_box_extent.h"
 #include "mesh_neighbors.h"
 #include "mesh_placement.h"
 #include "triangle_contact.h"
@@ -44,6 +45,8 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   ~FixMeshSurface() override;
   int setmask() override;
   void init() override;
+  void setup_pre_exchange() override;
+  void pre_exchange() override;
   void setup_pre_neighbor() override;
   void setup_post_neighbor() override;
   void setup_pre_force(int vflag) override;
@@ -52,6 +55,7 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   void pre_force(int vflag) override;
   void final_integrate() override;
   double compute_vector(int i) override;
+  void post_run() override;
   void write_restart(FILE *fp) override;
   void restart(char *buf) override;
   double memory_usage() override;
@@ -121,6 +125,8 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   bool keep_whole_ = false;  // keep_whole() was asked for
   bool split_ = false;       // kept_lo_/kept_hi_ bound what this rank keeps
   mesh::Vec3 kept_lo_{}, kept_hi_{};
+  MeshExtent split_extent_;          // the nodes' extent when the mesh was last whole (a part is kept)
+  ShrinkWrapAroundMeshes box_wrap_;  // open around reset_box (the first mesh fix does it for all)
   int outside_ = 0;               // check_domain() of the whole mesh, for the warnings of later runs
   bool crosses_periodic_ = false;
   mesh::MeshNeighbors neighbors_;
@@ -151,6 +157,11 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   void sum_totals();
   void remember_nodes();
   void check_domain();
+  MeshExtent extent() const;
+  bool leads_box_wrap() const;
+  MeshExtent all_meshes_extent() const;
+  void open_box_wrap();
+  void close_box_wrap() { box_wrap_.close(domain); }
   void set_surface_velocity();
 };
 

@@ -6,40 +6,91 @@
 
 namespace dembridge {
 namespace {
-constexpr int kShrinkWrapMin = 3;  // Domain::boundary code of 'm'
+constexpr int kShrinkWrap = 2;     // Domain::boundary code of 's'
+constexpr int kShrinkWrapMin = 3;  // of 'm'
 
 // Domain::small (the wrap margin, 1e-4 of the initial box) is protected; a derived class may name it.
 struct DomainMargin : LAMMPS_NS::Domain {
   static const double *of(const LAMMPS_NS::Domain *d) { return d->*(&DomainMargin::small); }
 };
+
+bool shrink_wrapped(const LAMMPS_NS::Domain *d, int dim, int side)
+{
+  return d->boundary[dim][side] == kShrinkWrap || d->boundary[dim][side] == kShrinkWrapMin;
+}
+
+double *min_bound(LAMMPS_NS::Domain *d, int dim, int side)
+{
+  double *lo[3] = {&d->minxlo, &d->minylo, &d->minzlo};
+  double *hi[3] = {&d->minxhi, &d->minyhi, &d->minzhi};
+  return side == 0 ? lo[dim] : hi[dim];
+}
+
+// LIGGGHTS's face with only the meshes (no atoms): node extent -+ margin; an 'm' face also its minimum.
+double mesh_face(const LAMMPS_NS::Domain *d, const MeshExtent &e, int dim, int side, double user_min)
+{
+  const double *margin = DomainMargin::of(d);
+  double face = side == 0 ? e.lo[dim] - margin[dim] : e.hi[dim] + margin[dim];
+  if (d->boundary[dim][side] == kShrinkWrapMin) face = side == 0 ? std::min(face, user_min) : std::max(face, user_min);
+  return face;
+}
+
+bool applies(const LAMMPS_NS::Domain *d, const MeshExtent &e) { return d->nonperiodic == 2 && !d->triclinic && !e.empty; }
 }  // namespace
 
-void widen_shrink_wrap_minimum(LAMMPS_NS::Domain *domain, const mesh::TriangleMesh &m, long long natoms)
+void MeshExtent::add(const mesh::Vec3 &l, const mesh::Vec3 &h)
 {
-  if (domain->triclinic || m.size() == 0) return;
-  mesh::Vec3 lo = m.node(0, 0), hi = lo;
-  for (int t = 0; t < m.size(); ++t)
-    for (int k = 0; k < 3; ++k)
-      for (int d = 0; d < 3; ++d) {
-        lo[d] = std::min(lo[d], m.node(t, k)[d]);
-        hi[d] = std::max(hi[d], m.node(t, k)[d]);
-      }
-  // LIGGGHTS: box = min(atoms, nodes) - margin; min() commutes with the (monotone) rounded subtraction
-  const double *margin = DomainMargin::of(domain);
-  double *min_lo[3] = {&domain->minxlo, &domain->minylo, &domain->minzlo};
-  double *min_hi[3] = {&domain->minxhi, &domain->minyhi, &domain->minzhi};
   for (int d = 0; d < 3; ++d) {
-    if (domain->boundary[d][0] == kShrinkWrapMin) *min_lo[d] = std::min(*min_lo[d], lo[d] - margin[d]);
-    if (domain->boundary[d][1] == kShrinkWrapMin) *min_hi[d] = std::max(*min_hi[d], hi[d] + margin[d]);
+    lo[d] = empty ? l[d] : std::min(lo[d], l[d]);
+    hi[d] = empty ? h[d] : std::max(hi[d], h[d]);
   }
-  // LAMMPS's reset_box leaves the box of an empty system alone; LIGGGHTS's wraps it around the meshes
-  // (and the minimum bounds), which the first insertion sees
-  if (natoms > 0) return;
+  empty = false;
+}
+
+MeshExtent node_extent(const mesh::TriangleMesh &m)
+{
+  MeshExtent e;
+  for (int t = 0; t < m.size(); ++t)
+    for (int k = 0; k < 3; ++k) e.add(m.node(t, k), m.node(t, k));
+  return e;
+}
+
+void ShrinkWrapAroundMeshes::open(LAMMPS_NS::Domain *domain, const MeshExtent &e, long long natoms)
+{
+  close(domain);
+  if (!applies(domain, e)) return;
+  if (natoms == 0) set_empty_box(domain, e);
+  for (int d = 0; d < 3; ++d)
+    for (int s = 0; s < 2; ++s) {
+      boundary_[d][s] = domain->boundary[d][s];
+      min_[d][s] = *min_bound(domain, d, s);
+      if (!shrink_wrapped(domain, d, s)) continue;
+      *min_bound(domain, d, s) = mesh_face(domain, e, d, s, min_[d][s]);
+      domain->boundary[d][s] = kShrinkWrapMin;
+    }
+  open_ = true;
+}
+
+void ShrinkWrapAroundMeshes::close(LAMMPS_NS::Domain *domain)
+{
+  if (!open_) return;
+  for (int d = 0; d < 3; ++d)
+    for (int s = 0; s < 2; ++s) {
+      domain->boundary[d][s] = boundary_[d][s];
+      *min_bound(domain, d, s) = min_[d][s];
+    }
+  open_ = false;
+}
+
+void ShrinkWrapAroundMeshes::set_empty_box(LAMMPS_NS::Domain *domain, const MeshExtent &e)
+{
+  if (!applies(domain, e)) return;
   for (int d = 0; d < 3; ++d) {
-    if (domain->boundary[d][0] == kShrinkWrapMin) domain->boxlo[d] = *min_lo[d];
-    if (domain->boundary[d][1] == kShrinkWrapMin) domain->boxhi[d] = *min_hi[d];
+    if (shrink_wrapped(domain, d, 0)) domain->boxlo[d] = mesh_face(domain, e, d, 0, *min_bound(domain, d, 0));
+    if (shrink_wrapped(domain, d, 1)) domain->boxhi[d] = mesh_face(domain, e, d, 1, *min_bound(domain, d, 1));
   }
   domain->set_global_box();
   domain->set_local_box();
 }
+
 }  // namespace dembridge

@@ -108,6 +108,7 @@ void FixInsertPack::init()
     error->all(FLERR, prefix() + "requires atom attributes radius, rmass, omega (atom_style sphere)");
   if (domain->triclinic) error->all(FLERR, prefix() + "Cannot use with triclinic box");
   if (domain->dimension != 3) error->all(FLERR, prefix() + "Can use fix insert for 3d simulations only");
+  find_set_property(lmp, k_.set_property, k_.set_property_value, prefix());
   dist_ = FixParticleDistribution::find(lmp, k_.distribution);
   region_ = domain->get_region_by_id(p_.region);
   if (!dist_) error->all(FLERR, prefix() + "particle distribution '" + k_.distribution + "' was deleted");
@@ -262,7 +263,7 @@ void FixInsertPack::pre_exchange()
     spheres.push_back(ns);
     mass += ns.mass;
   }
-  create_spheres(lmp, spheres);
+  create_spheres(lmp, spheres, find_set_property(lmp, k_.set_property, k_.set_property_value, prefix()));
   ninserted_ += static_cast<long>(spheres.size());
   massinserted_ += mass;
   if (comm->me == 0) {

@@ -131,6 +131,7 @@ void FixInsertStream::init()
     error->all(FLERR, prefix() + "requires atom attributes radius, rmass, omega, torque (atom_style sphere)");
   if (domain->triclinic) error->all(FLERR, prefix() + "Cannot use with triclinic box");
   if (domain->dimension != 3) error->all(FLERR, prefix() + "Can use fix insert for 3d simulations only");
+  find_set_property(lmp, k_.set_property, k_.set_property_value, prefix());
   dist_ = FixParticleDistribution::find(lmp, k_.distribution);
   if (!dist_) error->all(FLERR, prefix() + "particle distribution '" + k_.distribution + "' was deleted");
   face_fix_ = FixMeshSurface::find(lmp, s_.face, prefix() + "insertion_face");
@@ -320,7 +321,7 @@ void FixInsertStream::pre_exchange()
   std::vector<std::array<double, 3>> v_release(spheres.size());
   for (auto &vr : v_release) k_.vel.draw(insert_rng_, vr.data());
   const int nlocal_before = atom->nlocal;
-  create_spheres(lmp, spheres);
+  create_spheres(lmp, spheres, find_set_property(lmp, k_.set_property, k_.set_property_value, prefix()));
   // LIGGGHTS's finalize_insertion: release when the centre reaches the face
   const int step = static_cast<int>(update->ntimestep);
   const double vn_dt = norm3(v_normal_) * update->dt;

@@ -10,14 +10,12 @@ namespace dembridge::insertion {
 namespace {
 const char *const kGeneral[] = {"distributiontemplate", "maxattempt", "nparticles", "mass", "massrate",
                                 "particlerate", "insert_every", "every", "start", "overlapcheck", "all_in",
-                                "random_distribute", "verbose", "vel", "omega"};
+                                "random_distribute", "verbose", "vel", "omega", "set_property"};
 // accepted by LIGGGHTS 3.8 but not implemented here: refused rather than ignored, with what to use instead
 struct Refused {
   const char *key, *instead;
 };
 const Refused kRefused[] = {
-    {"set_property", "give the value as the default of its fix property/atom (new particles get it), or set it "
-                     "afterwards with 'set region ... property/atom NAME V'"},
     {"orientation", "it orients multisphere and superquadric particles, which dembridge does not have; spheres need "
                     "none: remove it"},
     {"compress_tags", "renumber the atoms between runs with LAMMPS's 'reset_atoms id'"},
@@ -120,6 +118,11 @@ int parse_general_keywords(const std::vector<std::string> &a, InsertKeywords &k)
         throw std::invalid_argument("expecting keyword 'constant' after keyword 'omega', got '" + a[i + 1] + "'");
       for (int d = 0; d < 3; ++d) k.omega[d] = number_arg(a[i + 2 + d], "omega constant");
       i += 5;
+    } else if (key == "set_property") {
+      need(a, i, 3, "a fix property/atom name and a value");
+      k.set_property = a[i + 1];
+      k.set_property_value = number_arg(a[i + 2], key);
+      i += 3;
     } else {
       break;
     }

@@ -24,6 +24,8 @@ struct InsertKeywords {
   bool verbose = true;
   VelocityRule vel;
   double omega[3] = {0.0, 0.0, 0.0};
+  std::string set_property;    // set_property NAME V: the scalar fix property/atom NAME of every new particle
+  double set_property_value = 0.0;
 };
 
 struct PackKeywords {

@@ -1,5 +1,7 @@
 #include "insertion_atoms.h"
 
+#include "fix_property_atom_liggghts.h"
+
 #include "atom.h"
 #include "lammps_atom_vec.h"
 #include "comm.h"
@@ -81,7 +83,17 @@ std::vector<double> gather_spheres_near(LAMMPS *lmp, const double *lo, const dou
   return allgather(lmp, mine);
 }
 
-bigint create_spheres(LAMMPS *lmp, const std::vector<NewSphere> &all)
+SetProperty find_set_property(LAMMPS *lmp, const std::string &name, double value, const std::string &who)
+{
+  if (name.empty()) return {};
+  FixPropertyAtomLiggghts *f = FixPropertyAtomLiggghts::find(lmp, name);
+  if (!f || !f->is_scalar())
+    lmp->error->all(FLERR, who + "set_property: '" + name + "' is not a scalar fix property/atom (define it before, with "
+                                 "'fix ID all property/atom " + name + " scalar yes no no DEFAULT')");
+  return {f, value};
+}
+
+bigint create_spheres(LAMMPS *lmp, const std::vector<NewSphere> &all, const SetProperty &set)
 {
   Atom *atom = lmp->atom;
   if (lmp->comm->layout == Comm::LAYOUT_TILED)
@@ -104,6 +116,7 @@ bigint create_spheres(LAMMPS *lmp, const std::vector<NewSphere> &all)
     atom->radius[m] = s.radius;
     atom->rmass[m] = s.mass;
     lmp->modify->create_attribute(m);
+    if (set.fix) set.fix->values()[m] = set.value;  // overrides the property's default, as LIGGGHTS
   }
   const bigint n = static_cast<bigint>(all.size());
   if (n > 0) {

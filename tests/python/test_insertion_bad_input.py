@@ -125,7 +125,13 @@ CASES = {
     "insert_start_in_the_past": (swap(I, I.replace("insert_every once", "start 0 insert_every once")),
                                  [INS, "'start' step can not be before current step"]),
     "insert_orientation_refused": (swap(I, GEN + " orientation random region ins volumefraction_region 0.3"),
-                                   [INS, "keyword 'orientation' is not supported"]),
+                                   [INS, "keyword 'orientation' is not supported", "remove it"]),
+    "insert_set_property_unknown": (swap(I, GEN + " set_property tracer 2 region ins volumefraction_region 0.3"),
+                                    [INS, "set_property", "'tracer' is not a scalar fix property/atom"]),
+    "insert_set_property_value": (swap(I, GEN + " set_property tracer hot region ins volumefraction_region 0.3"),
+                                  [INS, "set_property", "'hot'"]),
+    "insert_set_property_short": (swap(I, GEN + " set_property tracer"),
+                                  [INS, "'set_property' expects a fix property/atom name and a value"]),
     "insert_dynamic_region": (swap(I, I.replace("region ins", "region mov"), GOOD[:7] + [
         "variable vz equal 0.1*time", "region mov block -0.04 0.04 -0.04 0.04 0.01 0.05 move NULL NULL v_vz units box"] +
         GOOD[7:]), [INS, "dynamic regions are not allowed ('mov')"]),
@@ -172,7 +178,7 @@ CASES = {
     "stream_insert_every_once": (stream(None, ("vel constant", "insert_every once vel constant")),
                                  [STR, "must not define 'particlerate' or 'massrate' for 'insert_every' = once"]),
     "stream_parallel_yes": (stream(None, ("extrude_length 0.03", "extrude_length 0.03 parallel yes")),
-                            [STR, "'parallel yes' is not supported"]),
+                            [STR, "'parallel yes' is not supported", "use 'parallel no'"]),
     "stream_duration_with_extrude": (stream(None, ("extrude_length 0.03", "extrude_length 0.03 duration 10")),
                                      [STR, "must not provide both 'extrude_length' and 'duration'"]),
     "stream_moving_face": (stream("fix nve all nve/sphere", "fix mv all move/mesh mesh face linear 0 0 0.1\n"

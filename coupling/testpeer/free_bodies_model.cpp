@@ -11,6 +11,20 @@ V3 cross(const V3& a, const V3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double det3(const Mat3& A) {
+  return A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+         A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+}
+V3 solve3(const Mat3& A, const V3& b) {
+  const double d = det3(A);
+  V3 x;
+  for (int c = 0; c < 3; ++c) {
+    Mat3 M = A;
+    for (int r = 0; r < 3; ++r) M[r][c] = b[r];
+    x[c] = det3(M) / d;
+  }
+  return x;
+}
 }  // namespace
 
 Mat3 cayley_rotation(const V3& g) {
@@ -81,16 +95,76 @@ std::vector<FreeBody> FreeBodiesModel::predict(double dt) const {
   return out;
 }
 
-void FreeBodiesModel::step(const BodyLoadsLaw& loads, double dt) {
-  const std::vector<FreeBody> pred = predict(dt);
-  const double h = 0.5 * dt;
-  const std::size_t n = bodies_.size();
-  std::vector<V3> gdot(n, V3{}), f(n), m(n);
-  std::vector<FreeBody> cur = pred;
-  auto place = [&](std::size_t i, const V3& v, const V3& gd) {
-    FreeBody& b = cur[i];
-    const FreeBody& p = pred[i];
-    V3 g;
+void FreeBodiesModel::begin_step(double dt) {
+  dt_ = dt;
+  pred_ = predict(dt);
+  cur_ = pred_;
+  gdot_.assign(bodies_.size(), V3{});
+}
+
+void FreeBodiesModel::evaluate(const BodyLoadsLaw& loads, std::vector<V3>& f, std::vector<V3>& m) const {
+  f.assign(cur_.size(), V3{});
+  m.assign(cur_.size(), V3{});
+  loads(cur_, f, m);
+  add_gravity(f);
+}
+
+double FreeBodiesModel::residual(const BodyLoadsLaw& loads) const {
+  std::vector<V3> f, m;
+  evaluate(loads, f, m);
+  double r2 = 0;
+  for (std::size_t i = 0; i < cur_.size(); ++i) {
+    const V3 vxB = cross(cur_[i].v, cur_[i].B);
+    for (int k = 0; k < 3; ++k) {
+      const double rf = f[i][k] - cur_[i].Bp[k], rm = m[i][k] - cur_[i].Gp[k] - vxB[k];
+      const double rg = cur_[i].G[k] - cur_[i].inertia * cur_[i].w[k];  // w(g') linearised in the update
+      r2 += rf * rf + rm * rm + rg * rg;
+    }
+  }
+  return std::sqrt(r2);
+}
+
+void FreeBodiesModel::update(const BodyLoadsLaw& loads) {
+  const double h = 0.5 * dt_;
+  std::vector<V3> f, m;
+  evaluate(loads, f, m);
+  for (std::size_t i = 0; i < cur_.size(); ++i) {
+    const FreeBody& o = bodies_[i];
+    const FreeBody& p = pred_[i];
+    FreeBody& b = cur_[i];
+    const V3 B_old = b.B;
+    V3 v;
+    for (int k = 0; k < 3; ++k) {
+      b.Bp[k] = f[i][k];
+      b.B[k] = o.B[k] + h * (o.Bp[k] + f[i][k]);
+      v[k] = b.B[k] / b.mass;
+    }
+    // v x B linearised at the iterate (a Newton update)
+    V3 dv, dB;
+    for (int k = 0; k < 3; ++k) {
+      dv[k] = v[k] - b.v[k];
+      dB[k] = b.B[k] - B_old[k];
+    }
+    const V3 p0 = cross(b.v, B_old), p1 = cross(dv, B_old), p2 = cross(b.v, dB);
+    const V3 vxB{p0[0] + p1[0] + p2[0], p0[1] + p1[1] + p2[1], p0[2] + p1[2] + p2[2]};
+    V3 w;
+    for (int k = 0; k < 3; ++k) {
+      b.Gp[k] = m[i][k] - vxB[k];
+      b.G[k] = o.G[k] + h * (o.Gp[k] + b.Gp[k]);
+      w[k] = b.G[k] / b.inertia;
+    }
+    // One Newton update of g' towards Gm(h g') g' + Rd(h g') wp = w with MBDyn's Jacobian
+    // I - h w x (exact at the prediction, g' = 0)
+    V3 gd = gdot_[i], g;
+    for (int k = 0; k < 3; ++k) g[k] = h * gd[k];
+    const V3 a0 = cayley_g_times(g, gd), r0 = rotate_vector(cayley_rotation(g), p.w);
+    const V3 e{w[0] - a0[0] - r0[0], w[1] - a0[1] - r0[1], w[2] - a0[2] - r0[2]};
+    const V3 c{h * b.w[0], h * b.w[1], h * b.w[2]};
+    // (I - c x) d = e: Cramer on the 3 x 3
+    const Mat3 A{{{1, c[2], -c[1]}, {-c[2], 1, c[0]}, {c[1], -c[0], 1}}};
+    const V3 d = solve3(A, e);
+    for (int k = 0; k < 3; ++k) gd[k] += d[k];
+    gdot_[i] = gd;
     for (int k = 0; k < 3; ++k) {
       b.v[k] = v[k];
       b.x[k] = p.x[k] + h * (v[k] - p.v[k]);
@@ -100,63 +174,17 @@ void FreeBodiesModel::step(const BodyLoadsLaw& loads, double dt) {
     b.R = multiply(Rd, p.R);
     const V3 a = cayley_g_times(g, gd), r = rotate_vector(Rd, p.w);
     for (int k = 0; k < 3; ++k) b.w[k] = a[k] + r[k];
-  };
-  // MBDyn's Newton iterations: the loads have no Jacobian, so each update solves the momentum
-  // balances (exactly here) for the loads at the previous iterate (the prediction first), and
-  // B', G' keep those loads. It stops once the residual at the new iterate, the mismatch of the
-  // loads there with B', G', is within tolerance (2 updates on the recorded runs).
-  for (int pass = 0;; ++pass) {
-    if (pass >= 30) throw std::runtime_error("free bodies: no convergence in 30 iterations");
-    std::fill(f.begin(), f.end(), V3{});
-    std::fill(m.begin(), m.end(), V3{});
-    loads(cur, f, m);
-    add_gravity(f);
-    if (pass > 0) {
-      double r2 = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        const V3 vxB = cross(cur[i].v, cur[i].B);
-        for (int k = 0; k < 3; ++k) {
-          const double rf = f[i][k] - cur[i].Bp[k], rm = m[i][k] - cur[i].Gp[k] - vxB[k];
-          r2 += rf * rf + rm * rm;
-        }
-      }
-      if (std::sqrt(r2) <= tolerance_) break;
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      const FreeBody& o = bodies_[i];
-      FreeBody& b = cur[i];
-      V3 v;
-      for (int k = 0; k < 3; ++k) {
-        b.Bp[k] = f[i][k];
-        b.B[k] = o.B[k] + h * (o.Bp[k] + f[i][k]);
-        v[k] = b.B[k] / b.mass;
-      }
-      const V3 vxB = cross(v, b.B);
-      V3 w;
-      for (int k = 0; k < 3; ++k) {
-        b.Gp[k] = m[i][k] - vxB[k];
-        b.G[k] = o.G[k] + h * (o.Gp[k] + b.Gp[k]);
-        w[k] = b.G[k] / b.inertia;
-      }
-      // g' with Gm(h g') g' + Rd(h g') wp = w, by the fixed point on the Jacobian's leading I
-      V3 gd = gdot[i];
-      for (int it = 0; it < 50; ++it) {
-        V3 g;
-        for (int k = 0; k < 3; ++k) g[k] = h * gd[k];
-        const V3 a = cayley_g_times(g, gd), r = rotate_vector(cayley_rotation(g), pred[i].w);
-        double step = 0;
-        for (int k = 0; k < 3; ++k) {
-          const double e = a[k] + r[k] - w[k];
-          gd[k] -= e;
-          step = std::max(step, std::fabs(e));
-        }
-        if (step <= 1e-18) break;
-      }
-      gdot[i] = gd;
-      place(i, v, gd);
-    }
   }
-  bodies_ = cur;
+}
+
+void FreeBodiesModel::step(const BodyLoadsLaw& loads, double dt) {
+  begin_step(dt);
+  for (int pass = 0;; ++pass) {
+    if (pass > 0 && residual(loads) <= tolerance_) break;
+    if (pass >= 30) throw std::runtime_error("free bodies: no convergence in 30 iterations");
+    update(loads);
+  }
+  accept();
 }
 
 }  // namespace dembridge::mbdyn::testpeer

@@ -35,20 +35,8 @@ class FreeBodiesRun {
   FreeBodiesPeerOutcome run() {
     try {
       connect_and_negotiate();
-      send_kinematics(model_.state());
-      const LoadsMessage t0 = read_loads();
-      model_.derivatives(law(t0), s_.dt);
-      record(0.0);
-      for (int k = 1; k <= s_.steps; ++k) {
-        send_kinematics(model_.predict(s_.dt));
-        const LoadsMessage m = read_loads();
-        try {
-          model_.step(law(m), s_.dt);
-        } catch (const std::exception& e) {
-          throw Ends{1, e.what()};
-        }
-        record(k * s_.dt);
-      }
+      if (s_.tight) run_tight();
+      else run_loose();
       const std::uint8_t five = 5;
       sock_.send_bytes(&five, 1);
       out_.exit_status = 0;
@@ -62,6 +50,57 @@ class FreeBodiesRun {
   }
 
  private:
+  void run_loose() {
+    send_kinematics(6, model_.state());
+    model_.derivatives(law(read_loads(false)), s_.dt);
+    record(0.0);
+    for (int k = 1; k <= s_.steps; ++k) {
+      send_kinematics(6, model_.predict(s_.dt));
+      const LoadsMessage m = read_loads(false);
+      try {
+        model_.step(law(m), s_.dt);
+      } catch (const std::exception& e) {
+        throw Ends{1, e.what()};
+      }
+      record(k * s_.dt);
+    }
+  }
+
+  // MBDyn's tight coupling: its initial derivatives iterate (gravity: a non-zero residual), so
+  // t0's state goes out once; then per step the prediction and, after every Newton update, the
+  // iterate, until the peer answers 6; MBDyn then iterates on with those loads, silently.
+  void run_tight() {
+    send_kinematics(2, model_.state());
+    LoadsMessage m = read_loads(true);
+    while (last_cmd_ == 2) {  // the peer asks for another start-up iterate: the state is kept
+      model_.derivatives(law(m), s_.dt);
+      send_kinematics(2, model_.state());
+      m = read_loads(true);
+    }
+    model_.derivatives(law(m), s_.dt);
+    record(0.0);
+    for (int k = 1; k <= s_.steps; ++k) {
+      model_.begin_step(s_.dt);
+      send_kinematics(2, model_.iterate());
+      BodyLoadsLaw loads = law(read_loads(true));
+      bool peer_converged = last_cmd_ == 6;
+      for (int j = 0;; ++j) {
+        if (j > 0 && peer_converged && model_.residual(loads) <= model_.tolerance()) break;
+        if (j >= s_.max_iterations)
+          throw Ends{1, "Max iterations number " + std::to_string(s_.max_iterations) + " has been reached during step " +
+                            std::to_string(k)};
+        model_.update(loads);
+        if (!peer_converged) {
+          send_kinematics(2, model_.iterate());
+          loads = law(read_loads(true));
+          peer_converged = last_cmd_ == 6;
+        }
+      }
+      model_.accept();
+      record(k * s_.dt);
+    }
+  }
+
   static std::vector<FreeBody> bodies_of(const FreeBodiesPeerSetup& s) {
     std::vector<FreeBody> b{s.reference};
     b.insert(b.end(), s.points.begin(), s.points.end());
@@ -91,7 +130,7 @@ class FreeBodiesRun {
   }
 
   // The reference node absolute, the points relative to it in its frame (MBDyn's layout).
-  void send_kinematics(const std::vector<FreeBody>& b) {
+  void send_kinematics(std::uint8_t cmd, const std::vector<FreeBody>& b) {
     const FreeBody& r = b[0];
     NodeState ref;
     ref.label = s_.reference_label;
@@ -118,17 +157,18 @@ class FreeBodiesRun {
       nodes.push_back(n);
     }
     const std::vector<std::uint8_t> payload = encode_kinematics_payload(shape_, ref, nodes);
-    const std::uint8_t six = 6;
-    if (!sock_.send_bytes(&six, 1) || !sock_.send_bytes(payload.data(), payload.size()))
+    if (!sock_.send_bytes(&cmd, 1) || !sock_.send_bytes(payload.data(), payload.size()))
       throw Ends{2, "send() to peer failed: peer gone"};
     ++out_.kinematics_sent;
   }
 
-  LoadsMessage read_loads() {
+  LoadsMessage read_loads(bool tight) {
     std::uint8_t cmd = 0;
     if (sock_.receive_all(&cmd, 1) != 1) throw Ends{2, "no answer from the peer"};
     if (cmd == 5) throw Ends{2, "peer requested end of simulation; MBDyn was interrupted"};
-    if (cmd != 6) throw Ends{1, "received command " + std::to_string(cmd) + " in loose coupling"};
+    if (cmd != 6 && !(tight && cmd == 2))
+      throw Ends{1, "received command " + std::to_string(cmd) + (tight ? "" : " in loose coupling")};
+    last_cmd_ = cmd;
     const std::size_t want = loads_payload_size(shape_);
     std::vector<std::uint8_t> buf(want);
     if (sock_.receive_all(buf.data(), want) != want) throw Ends{1, "StructExtForce: short load message"};
@@ -187,6 +227,7 @@ class FreeBodiesRun {
   ElementShape shape_;
   PeerSocket sock_;
   std::vector<std::size_t> slot_;
+  std::uint8_t last_cmd_ = 0;
   std::unique_ptr<std::ofstream> traj_;
   FreeBodiesPeerOutcome out_;
 };

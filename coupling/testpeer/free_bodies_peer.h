@@ -1,9 +1,11 @@
 // The test peer as MBDyn's `external structural` element with `reference node` on free rigid
 // bodies (free_bodies_model.h): the reference node and the N points are dynamic nodes with a body
 // each, `labels, yes`, `sorted, no`, `orientation matrix`, `use reference node forces, yes,
-// rotate reference node forces, yes`, loose coupling. Sequence as recorded: 07|flags|N from the
-// peer, 08; 6|kinematics at t0, read by the initial derivatives; per step 6|prediction, the answer
-// frozen (in the reference frame) for the step; 5 after the last step.
+// rotate reference node forces, yes`, loose or tight coupling. Sequence as recorded: 07|flags|N
+// from the peer, 08; loose: 6|kinematics at t0, read by the initial derivatives; per step
+// 6|prediction, the answer frozen (in the reference frame) for the step; tight: 2|t0 (the
+// derivatives iterate), then per step 2|prediction and 2|iterate after every Newton update until
+// the peer answers 6 (free_bodies_peer.cpp); 5 after the last step.
 // MBDyn's use of an answer (checked on the recorded run): point k gets R_r F~ and R_r M~ of the
 // slot whose index is the position, in the element's list, of the label in slot k (MBDyn's
 // `sorted, no` mapping: right for the received order); the reference node gets R_r F0 - sum f and
@@ -29,6 +31,8 @@ struct FreeBodiesPeerSetup {
   V3 gravity{0, 0, 0};
   double derivatives_coefficient = 1e-6;
   double tolerance = 1e-9;  // MBDyn's `tolerance`
+  int max_iterations = 20;  // MBDyn's `max iterations`
+  bool tight = false;       // MBDyn's `coupling, tight` (else loose)
   int steps = 10;
   double dt = 1e-3;
   double accept_timeout_s = 30, io_timeout_s = 30;

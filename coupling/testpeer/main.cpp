@@ -55,7 +55,7 @@ const char* kUsage =
     "  [--reference-label L (10)] [--point-labels l1,l2,...]\n"
     "                           `external structural` with `reference node` on free rigid bodies instead\n"
     "                           (MBDyn dynamic nodes with a body of isotropic inertia J each; labels, sorted\n"
-    "                           no, orientation matrix, use/rotate reference node forces yes, loose; with\n"
+    "                           no, orientation matrix, use/rotate reference node forces yes; with\n"
     "                           --path, --steps, --dt, --gravity, --trajectory: t, then per body, reference\n"
     "                           first, x R(row by row) v w)\n"
     "  --kinematics-log FILE    one line per kinematics message: index, command, then per point\n"
@@ -162,7 +162,9 @@ int run_free_bodies(const PeerSetup& s, FreeBodiesPeerSetup f, const std::vector
                     const std::string& trajectory_file) {
   if (f.points.empty()) usage_error("--reference-body needs at least one --point-body");
   if (s.place.unix_path.empty()) usage_error("the free-bodies peer needs --path");
-  if (s.coupling != CouplingMode::Loose) usage_error("the free-bodies peer is loose only");
+  if (s.coupling == CouplingMode::None) usage_error("the free-bodies peer is loose or tight");
+  f.tight = s.coupling == CouplingMode::Tight;
+  f.max_iterations = s.max_iterations;
   if (labels.empty())
     for (std::size_t i = 0; i < f.points.size(); ++i) f.labels.push_back(static_cast<std::uint32_t>(20 + 10 * i));
   for (double l : labels) {

@@ -163,6 +163,25 @@ def mapping_deck(sock, points, stl, plugin, coupled, profile=False):
     return "\n".join(lines) + "\n"
 
 
+def mapping_atoms_deck(sock, points, plugin, coupled):
+    """The wall-of-particles layout of `external structural mapping`: one atom per mapped point (`node atom`, orientation
+    none), on the same grid, touching nothing (no pair style); plain: the same atoms without fix mbdyn."""
+    nx, ny = mapping_grid(points)
+    lines = [f"plugin load {plugin}", "units si", "atom_style sphere", "atom_modify map array", "boundary f f f",
+             "newton off", "comm_modify vel yes",
+             f"region box block {-MAP_H!r} {nx * MAP_H!r} {-MAP_H!r} {ny * MAP_H!r} -0.02 0.03 units box",
+             "create_box 1 box", f"lattice sc {MAP_H!r}",
+             f"region pts block {-0.5 * MAP_H!r} {(nx - 0.5) * MAP_H!r} {-0.5 * MAP_H!r} {(ny - 0.5) * MAP_H!r} "
+             f"{-0.5 * MAP_H!r} {0.5 * MAP_H!r} units box", "create_atoms 1 region pts units box",
+             f"set type 1 diameter {0.8 * MAP_H!r}", "set type 1 density 2500", "timestep 1e-5"]
+    if coupled:
+        # atom IDs follow create_atoms' lattice loop (x fastest, then y): the peer's grid order
+        nodes = " ".join(f"node atom {1 + k}" for k in range(points))
+        lines += [f"fix M all mbdyn path {sock} {nodes} orientation none connect_timeout 60 io_timeout 60 profile yes"]
+    lines += ["thermo 0", "run 1"]
+    return "\n".join(lines) + "\n"
+
+
 def mapping_rounds(b, rounds, points_list, steps_for):
     """Interleaved rounds over the Unix socket, per mapped-point count: the bare client of the same messages, the
     plain deck and the coupled deck (profile yes); the order reversed every other round."""
@@ -180,7 +199,11 @@ def mapping_rounds(b, rounds, points_list, steps_for):
                                                steps, False, f"mapping {points}, plain")),
                     ("coupled", lambda: b.inproc("unix", lambda s: mapping_deck(s, points, stls[points], b.plugin, True,
                                                                                  True), steps, True,
-                                                 f"mapping {points}, coupled", shape, profile=True))]
+                                                 f"mapping {points}, coupled", shape, profile=True)),
+                    ("atoms_plain", lambda: b.inproc("unix", lambda s: mapping_atoms_deck(s, points, b.plugin, False),
+                                                     steps, False, f"mapping on atoms {points}, plain")),
+                    ("atoms", lambda: b.inproc("unix", lambda s: mapping_atoms_deck(s, points, b.plugin, True), steps,
+                                               True, f"mapping on atoms {points}, coupled", shape, profile=True))]
             if rnd % 2:
                 jobs.reverse()
             got = {name: job() for name, job in jobs}
@@ -191,6 +214,12 @@ def mapping_rounds(b, rounds, points_list, steps_for):
                        fix_wall=coupled["fix_wall"], wait=coupled["wait"], receive_cpu=coupled["receive_cpu"],
                        pose_cpu=coupled["pose_cpu"], loads_cpu=coupled["loads_cpu"],
                        load=max(bare["load"], plain["load"], coupled["load"]))
+            ap, ac = got["atoms_plain"], got["atoms"]
+            row.update(atoms_exchange=ac["wall"] - ap["wall"], atoms_exchange_cpu=ac["cpu"] - ap["cpu"],
+                       atoms_fix_cpu=ac["fix_cpu"], atoms_pose_cpu=ac["pose_cpu"], atoms_loads_cpu=ac["loads_cpu"],
+                       atoms_receive_cpu=ac["receive_cpu"])
+            row["atoms_ratio"] = row["atoms_exchange"] / row["bare"]
+            row["atoms_ratio_cpu"] = row["atoms_exchange_cpu"] / row["bare_cpu"]
             row["ratio"] = row["exchange"] / row["bare"]
             row["ratio_cpu"] = row["exchange_cpu"] / row["bare_cpu"]
             rows.setdefault(points, []).append(row)
@@ -200,7 +229,9 @@ def mapping_rounds(b, rounds, points_list, steps_for):
                   f"(cpu {row['exchange_cpu']:.1f}) = {row['ratio']:.2f} x the bare round trip (cpu "
                   f"{row['ratio_cpu']:.2f} x); fix's own cpu {row['fix_cpu']:.1f} us (receive {row['receive_cpu']:.1f}, "
                   f"pose {row['pose_cpu']:.1f}, loads {row['loads_cpu']:.1f}), wall {row['fix_wall']:.1f} us + "
-                  f"{row['wait']:.1f} us waiting", flush=True)
+                  f"{row['wait']:.1f} us waiting; on atoms: exchange {row['atoms_exchange']:.1f} us (cpu "
+                  f"{row['atoms_exchange_cpu']:.1f}) = {row['atoms_ratio']:.2f} x (cpu {row['atoms_ratio_cpu']:.2f} x), "
+                  f"fix's own cpu {row['atoms_fix_cpu']:.1f} us", flush=True)
     return rows
 
 
@@ -211,18 +242,24 @@ def mapping_report(b, rounds, points_list, steps_for):
 
     def span(p, key):
         return f"[{min(r[key] for r in rows[p]):.2f}, {max(r[key] for r in rows[p]):.2f}]"
-    table(f"external structural mapping over a Unix socket (fix mbdyn ... mapping: a flat mesh whose vertices are the "
-          f"mapped points, a sphere resting on every cell), medians of {rounds} interleaved rounds (range in brackets); "
+    table(f"external structural mapping over a Unix socket, two layouts: mesh = fix mbdyn ... mapping (a flat mesh whose "
+          f"vertices are the mapped points, a sphere resting on every cell), atoms = one `node atom` per mapped point "
+          f"(orientation none); medians of {rounds} interleaved rounds (range in brackets); "
           f"highest 1-minute load before a run {top:.2f} on {os.cpu_count()} cores; exchange = coupled - plain deck, "
           "per step (one exchange per step):",
-          ["mapped points", "message bytes in / out", "steps", "bare round trip us (cpu)", "plain us/step (cpu)",
-           "coupled us/step (cpu)", "exchange us/step (cpu)", "exchange / bare, wall", "exchange / bare, cpu",
-           "fix cpu us/step (receive, pose, loads)"],
+          ["mapped points", "message bytes in / out", "steps", "bare round trip us (cpu)", "mesh: plain us/step (cpu)",
+           "mesh: coupled us/step (cpu)", "mesh: exchange us/step (cpu)", "mesh: exchange / bare, cpu (wall)",
+           "mesh: fix cpu us/step (receive, pose, loads)", "atoms: exchange us/step (cpu)",
+           "atoms: exchange / bare, cpu (wall)", "atoms: fix cpu us/step (receive, pose, loads)"],
           [[f"{p}", f"{1 + 48 * p} / {1 + 24 * p}", f"{m['steps']:.0f}", f"{m['bare']:.1f} ({m['bare_cpu']:.1f})",
             f"{m['plain']:.1f} ({m['plain_cpu']:.1f})", f"{m['coupled']:.1f} ({m['coupled_cpu']:.1f})",
-            f"{m['exchange']:.1f} ({m['exchange_cpu']:.1f})", f"{m['ratio']:.2f} {span(p, 'ratio')}",
-            f"{m['ratio_cpu']:.2f} {span(p, 'ratio_cpu')}",
-            f"{m['fix_cpu']:.1f} ({m['receive_cpu']:.1f}, {m['pose_cpu']:.1f}, {m['loads_cpu']:.1f})"]
+            f"{m['exchange']:.1f} ({m['exchange_cpu']:.1f})",
+            f"{m['ratio_cpu']:.1f} {span(p, 'ratio_cpu')} ({m['ratio']:.1f})",
+            f"{m['fix_cpu']:.1f} ({m['receive_cpu']:.1f}, {m['pose_cpu']:.1f}, {m['loads_cpu']:.1f})",
+            f"{m['atoms_exchange']:.1f} ({m['atoms_exchange_cpu']:.1f})",
+            f"{m['atoms_ratio_cpu']:.1f} {span(p, 'atoms_ratio_cpu')} ({m['atoms_ratio']:.1f})",
+            f"{m['atoms_fix_cpu']:.1f} ({m['atoms_receive_cpu']:.1f}, {m['atoms_pose_cpu']:.1f}, "
+            f"{m['atoms_loads_cpu']:.1f})"]
            for p, m in med.items()])
 
 

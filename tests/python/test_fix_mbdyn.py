@@ -671,6 +671,64 @@ def test_floor_instrument_exchanges_once_per_step(sockdir, kind):
     assert lines == ["Fix mbdyn/floor (id F) profile: 80 steps", "Fix mbdyn/floor (id F) profile: 48 steps"], out[-3000:]
 
 
+MAPPING_BENCH_DECK = """plugin load ${{plugin}}
+units si
+atom_style sphere
+atom_modify map array
+boundary f f f
+newton off
+comm_modify vel yes
+region box block -0.01 0.03 -0.01 0.02 -0.02 0.03 units box
+create_box 1 box
+create_atoms 1 single 0.005 0.005 0.004 units box
+set type 1 diameter 0.008 density 2500
+fix m1 all property/global youngsModulus peratomtype 5.e6
+fix m2 all property/global poissonsRatio peratomtype 0.3
+fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5
+fix m4 all property/global coefficientFriction peratomtypepair 1 0.4
+pair_style gran model hertz tangential history
+pair_coeff * *
+timestep 1e-5
+fix plate all mesh/surface/stress file {stl} type 1
+fix walls all wall/gran model hertz tangential history mesh n_meshes 1 meshes plate
+fix I all nve/sphere
+fix M all mbdyn path {sock} mapping plate points 6 orientation none connect_timeout 30 io_timeout 30
+run 20
+"""
+
+
+@pytest.mark.skipif(bench_peer() is None, reason="needs the mbdyn_bench_peer executable")
+def test_bench_peer_speaks_the_mapping_layout(sockdir):
+    """The bench's mapping rows: `serve --orientation none --grid 3` sends the 6 mapped points of a 3 x 2 grid
+    (spacing 0.01) that fix mbdyn ... mapping matches to the mesh's vertices (else an ERROR names the vertex) and
+    answers every message with 6 forces (else the peer fails); the bare client speaks the same layout."""
+    exe = bench_peer()
+    stl = os.path.join(sockdir, "grid.stl")
+    v = lambda i, j: f"vertex {i * 0.01!r} {j * 0.01!r} 0.0"  # noqa: E731  the doubles the peer computes
+    with open(stl, "w") as fh:
+        fh.write("solid g\n")
+        for i in range(2):
+            for tri in (((i, 0), (i + 1, 0), (i + 1, 1)), ((i, 0), (i + 1, 1), (i, 1))):
+                fh.write("facet normal 0 0 1\nouter loop\n" + "\n".join(v(*c) for c in tri) + "\nendloop\nendfacet\n")
+        fh.write("endsolid g\n")
+    shape = ["--nodes", "6", "--orientation", "none", "--grid", "3", "--spacing", "0.01,0.01,0"]
+    for client in ("lammps", "bare"):
+        sock = os.path.join(sockdir, f"{client}.sock")
+        peer = subprocess.Popen([exe, "serve", "--path", sock, *shape, "--messages", "21"], stdout=subprocess.PIPE,
+                                stderr=subprocess.STDOUT, text=True)
+        assert "listening" in peer.stdout.readline()
+        if client == "lammps":
+            rc, out, _ = run_lammps(MAPPING_BENCH_DECK.format(stl=stl, sock=sock), sockdir, timeout=60)
+        else:
+            r = subprocess.run([exe, "client", "--path", sock, "--nodes", "6", "--orientation", "none"],
+                               capture_output=True, text=True, timeout=60)
+            rc, out = r.returncode, r.stdout + r.stderr
+            assert "20 exchanges" in out, out
+        pout, _ = peer.communicate(timeout=30)
+        assert rc == 0, out[-3000:]
+        assert peer.returncode == 0, pout
+
+
 @pytest.mark.parametrize("old,new,expect", [
     ("nodes 3", "nodes 0", "keyword 'nodes' expects a positive node count, got 0"),
     ("profile yes", "profile maybe", "keyword 'profile' expects yes or no, got 'maybe'"),

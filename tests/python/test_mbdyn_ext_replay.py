@@ -133,3 +133,17 @@ def test_test_peer_replays_the_recorded_refnode_run(transcript, sockdir):  # noq
     print(f"{transcript}: {len(data)} kinematics messages in {secs:.1f} s; worst deviation per field "
           f"(relative to its largest value): {', '.join(report)}")
     assert worst_all <= 1e-12, report
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--reference-body", "1,0.1,0,0,0"], "--reference-body expects m,J,x,y,z,vx,vy,vz,wx,wy,wz"),
+    (["--reference-body", "0,0.1,0,0,0,0,0,0,0,0,0"], "with m, J > 0"),
+    (["--point-body", "1,0.1,0,0,0,0,0,0,0,0,0"], "--point-body needs --reference-body"),
+    (["--reference-body", "1,0.1,0,0,0,0,0,0,0,0,0"], "needs at least one --point-body"),
+    (BODIES + ["--point-labels", "20,30"], "--point-labels needs one label per --point-body"),
+    (BODIES + ["--coupling", "none"], "the free-bodies peer is loose or tight"),
+])
+def test_free_bodies_usage_errors(args, message, sockdir):  # noqa: F811
+    p = subprocess.run([PEER, "--path", os.path.join(sockdir, "u.sock")] + args, capture_output=True, text=True,
+                       timeout=30)
+    assert p.returncode == 2 and message in p.stderr, (p.returncode, p.stderr)

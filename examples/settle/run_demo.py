@@ -36,7 +36,8 @@ def main():
     plt = plotting.pyplot()
     th = dembridge.read_thermo(log)[-1]
     dt = 2e-5
-    step, frame = dembridge.read_dump_atoms(os.path.join(a.out, "settle.dump"))[-1]
+    frames = dembridge.read_dump_atoms(os.path.join(a.out, "settle.dump"))
+    step, frame = frames[-1]
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
     plotting.energy_history(ax1, th, dt, ["KinEng", "c_rke"], ["translational KE", "rotational KE"])
     ax1.set_xlabel("time (s)")
@@ -49,7 +50,6 @@ def main():
     png = os.path.join(a.out, "settle.png")
     fig.tight_layout()
     fig.savefig(png, dpi=120)
-    frames = dembridge.read_dump_atoms(os.path.join(a.out, "settle.dump"))
     snap_step, snap = min(frames, key=lambda f: abs(f[0] * dt - 0.1))
     render_snapshot(snap, snap_step * dt, os.path.join(a.out, "snapshot.png"))
     print(f"demo done: {len(frame['id'])} beads settled in {th['Step'][-1] * dt:.2f} s simulated time")

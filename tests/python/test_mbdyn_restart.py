@@ -220,6 +220,10 @@ def test_restart_bad_input(workdir):
         run = lammps(wd, restarted_deck(sock, wd, "bad", 3, restart, **kw), "bad")
         err = error_line(run.stdout)
         assert run.returncode != 0 and expected in err, (kw, run.stdout[-2000:])
+    # the mesh read from another file: fix mesh/surface's own restart record refuses it
+    paddle = os.path.join(os.path.dirname(STL), "..", "..", "liggghts-walls", "mesh_move_rotate_paddle", "paddle.stl")
+    run = lammps(wd, restarted_deck(sock, wd, "bad", 3, restart).replace(STL, paddle), "bad")
+    assert run.returncode != 0 and "(id plate) restart" in error_line(run.stdout), run.stdout[-2000:]
     # other sub-steps: the timestep changed (mbdyn_dt stays), so one MBDyn step is 6 LAMMPS steps
     deck = restarted_deck(sock, wd, "bad", 3, restart).replace("fix I all", "timestep 0.001\nfix I all")
     run = lammps(wd, deck, "bad")

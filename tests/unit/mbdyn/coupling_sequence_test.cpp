@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <stdexcept>
 
 #include "protocol_error.h"
 #include "test_support.h"
@@ -187,6 +188,81 @@ TEST(CouplingSequence, PeerStopRequestEndsMbdynAfterTheCurrentStep) {
   EXPECT_EQ(out.exit_status, 2) << out.log;  // "MBDyn was interrupted"
   EXPECT_EQ(out.trajectory.size(), 5u);      // t0 and steps 1..4, step 4 completed
   EXPECT_EQ(out.answers.back(), 5);
+}
+
+// A coupling continued by new processes on both sides (restart): the test peer saves its state when
+// the peer stops it, a new test peer resumes from it, and a new session continued after the last
+// answered step receives the next step first, with the bytes and the step counts of the unbroken run.
+TEST(CouplingSequence, AContinuedSessionStartsAtTheStepAfterTheLastAnswer) {
+  const NodalConfig c = two_matrix_nodes();
+  auto answer = [&](PeerSession& s, std::uint64_t step) {
+    Loads l(c);
+    for (std::size_t j = 0; j < l.force.size(); ++j) l.force[j] = 0.25 * static_cast<double>(step + j);
+    s.send_loads(l, true);
+  };
+  // the unbroken run: t0 and 8 steps
+  auto whole = test::make_pair_setup(c, Coupling::Loose, "whole");
+  whole.peer.steps = 8;
+  PeerThread peer0(whole.peer);
+  PeerSession s0 = PeerSession::open(whole.session);
+  std::vector<std::vector<std::uint8_t>> unbroken;
+  for (;;) {
+    const Received r = s0.receive();
+    if (!r.is_kinematics()) break;
+    unbroken.push_back(s0.raw_payload());
+    answer(s0, r.step);
+  }
+  const auto out0 = peer0.join();
+  ASSERT_EQ(unbroken.size(), 9u);
+  // the first part: steps up to 3 answered, step 4 refused with 5
+  const std::string state = test::unique_socket_path("state") + ".txt";
+  auto first = test::make_pair_setup(c, Coupling::Loose, "first");
+  first.peer.steps = 8;
+  first.peer.save_state = state;
+  PeerThread peer1(first.peer);
+  PeerSession s1 = PeerSession::open(first.session);
+  for (std::uint64_t k = 0; k <= 3; ++k) {
+    ASSERT_EQ(s1.receive().step, k);
+    answer(s1, k);
+  }
+  ASSERT_EQ(s1.receive().step, 4u);
+  s1.request_stop();
+  EXPECT_FALSE(s1.receive().is_kinematics());
+  EXPECT_EQ(peer1.join().exit_status, 2);
+  // the continuation
+  auto second = test::make_pair_setup(c, Coupling::Loose, "second");
+  second.peer.steps = 8;
+  second.peer.resume_state = state;
+  PeerThread peer2(second.peer);
+  PeerSession s2 = PeerSession::open(second.session);
+  s2.continue_after_step(3);
+  for (std::uint64_t k = 4;; ++k) {
+    const Received r = s2.receive();
+    if (!r.is_kinematics()) {
+      EXPECT_EQ(k, 9u);
+      break;
+    }
+    EXPECT_EQ(r.step, k);
+    EXPECT_TRUE(r.starts_new_step);
+    ASSERT_LT(k, unbroken.size());
+    EXPECT_EQ(s2.raw_payload(), unbroken[k]) << "message of step " << k;
+    answer(s2, r.step);
+  }
+  const auto out2 = peer2.join();
+  EXPECT_EQ(out2.exit_status, 0) << out2.log;
+  // the resumed peer's trajectory: the restored step 3, then steps 4..8, as the unbroken peer's
+  ASSERT_EQ(out2.trajectory.size(), 6u);
+  for (std::size_t i = 0; i < out2.trajectory.size(); ++i) {
+    const auto &a = out2.trajectory[i], &b = out0.trajectory[i + 3];
+    EXPECT_EQ(a.t, b.t);
+    for (std::size_t n = 0; n < a.bodies.size(); ++n) {
+      EXPECT_EQ(a.bodies[n].x, b.bodies[n].x);
+      EXPECT_EQ(a.bodies[n].v, b.bodies[n].v);
+      EXPECT_EQ(a.bodies[n].theta, b.bodies[n].theta);
+    }
+  }
+  std::remove(state.c_str());
+  EXPECT_THROW(s2.continue_after_step(1), std::logic_error);  // only before the first message
 }
 
 TEST(CouplingSequence, TcpExchangeDoesNotStallOnNagleAndDelayedAck) {

@@ -235,3 +235,10 @@ def test_restart_bad_input(workdir):
     err = error_line(run.stdout)
     assert run.returncode != 0 and "is not the one received before write_restart" in err, run.stdout[-2000:]
     assert "the peer does not continue the same coupling" in err
+    # resume no: the same peer starting anew is a new coupling (its t0 message is the rest pose; the
+    # restored mesh is bent by up to 1.3 cm, bound again within match_tolerance)
+    run, rc, out, _, loads = coupled(wd, lambda s: restarted_deck(s, wd, "new", 3, restart,
+                                                                  "resume no match_tolerance 0.04"), "new")
+    assert run.returncode == 0, run.stdout[-2000:]
+    assert "resume no: the coupling state of the restart file is ignored" in run.stdout
+    assert rc == 2 and len(lines(loads)) == 2  # the t0 answer and MBDyn step 1; step 2 refused with 5

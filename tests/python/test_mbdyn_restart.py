@@ -1,7 +1,7 @@
 """Restart of a coupled run: fix mbdyn ... mapping (MBDyn's `external structural mapping`) driving
 a deforming mesh with particles on it, played by the test peer (15 mapped points, free point
 masses with an initial bending velocity; the grid of tests/data/mbdyn-ext/mapping_beam).
-10 MBDyn steps of 3 LAMMPS steps, loose and tight. The split runs write_restart after 15 LAMMPS
+10 MBDyn steps of 3 LAMMPS steps, loose and tight, 1 rank (and 2). The split runs write_restart after 15 LAMMPS
 steps (the end of MBDyn step 5) or after 16 (between two sub-steps of step 6) and end (LAMMPS answers 5, the peer
 saves its state); a new LAMMPS process reads the restart file and runs the remaining steps with a
 new peer process resumed from the saved state. The reference is one LAMMPS process with the same
@@ -17,7 +17,7 @@ import subprocess
 
 import pytest
 
-from dembridge import lmp_executable, plugin_path
+from dembridge import lmp_executable, mpiexec, plugin_path
 from gran_deck import HOOKE_ONE_TYPE
 from test_fix_mbdyn import PEER, error_line
 from test_mbdyn_mapping_mesh import M_POINTS, PARTICLES, RADIUS, STL, messages, transcript
@@ -107,22 +107,24 @@ comm_modify vel yes
 """
 
 
-def lammps(wd, deck, name):
+def lammps(wd, deck, name, nprocs=1):
     path = os.path.join(wd, f"in.{name}")
     open(path, "w").write(deck)
-    return subprocess.run([lmp_executable(), "-in", path, "-nocite", "-log", "none", "-echo", "none", "-var",
-                           "plugin", plugin_path()], cwd=wd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+    cmd = [lmp_executable(), "-in", path, "-nocite", "-log", "none", "-echo", "none", "-var", "plugin", plugin_path()]
+    if nprocs > 1:
+        cmd = [mpiexec(), "-n", str(nprocs)] + cmd
+    return subprocess.run(cmd, cwd=wd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                           text=True, timeout=120, stdin=subprocess.DEVNULL)
 
 
-def coupled(wd, deck, name, **peer):
+def coupled(wd, deck, name, nprocs=1, **peer):
     sock = os.path.join(wd, "s.sock")
     traj, loads = os.path.join(wd, f"{name}.traj"), os.path.join(wd, f"{name}.loads")
     p = subprocess.Popen(peer_args(sock, traj, loads, **peer), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                          text=True)
     line = p.stdout.readline()
     assert "listening" in line, line
-    run = lammps(wd, deck(sock), name)
+    run = lammps(wd, deck(sock), name, nprocs)
     out, _ = p.communicate(timeout=60)
     return run, p.returncode, out, traj, loads
 
@@ -146,42 +148,45 @@ def workdir(tmp_path_factory):
     return wd
 
 
-def reference(wd, first, coupling):
+def reference(wd, first, coupling, nprocs=1):
     """One LAMMPS process (`run first`, `run` the rest) and one peer process."""
-    tag = f"ref{first}{coupling}"
+    tag = f"ref{first}{coupling}{nprocs}"
     run, rc, out, traj, loads = coupled(
-        wd, lambda s: fresh_deck(s, wd, tag, first, f"coupling {coupling}", then=SUB * STEPS - first), tag,
+        wd, lambda s: fresh_deck(s, wd, tag, first, f"coupling {coupling}", then=SUB * STEPS - first), tag, nprocs,
         coupling=coupling)
     assert run.returncode == 0 and rc == 0, (run.stdout[-3000:], out)
     return tag, lines(traj), lines(loads)
 
 
-def split_run(wd, first, tag, coupling):
+def split_run(wd, first, tag, coupling, nprocs=1):
     """`run first` + write_restart; a new process reads it and runs to the end; new peer processes."""
     restart = os.path.join(wd, f"{tag}.restart")
     state = os.path.join(wd, f"{tag}.state")
     fix = f"coupling {coupling}"
     run1, rc1, out1, traj1, loads1 = coupled(
-        wd, lambda s: fresh_deck(s, wd, tag + "1", first, fix, write=restart), tag + "1", save=state, coupling=coupling)
+        wd, lambda s: fresh_deck(s, wd, tag + "1", first, fix, write=restart), tag + "1", nprocs, save=state,
+        coupling=coupling)
     assert run1.returncode == 0, run1.stdout[-3000:]
     assert rc1 == 2 and "peer requested end" in out1, out1  # LAMMPS answered 5 when it ended
     run2, rc2, out2, traj2, loads2 = coupled(
-        wd, lambda s: restarted_deck(s, wd, tag + "2", SUB * STEPS - first, restart, fix), tag + "2", resume=state,
-        coupling=coupling)
+        wd, lambda s: restarted_deck(s, wd, tag + "2", SUB * STEPS - first, restart, fix), tag + "2", nprocs,
+        resume=state, coupling=coupling)
     assert run2.returncode == 0 and rc2 == 0, (run2.stdout[-3000:], out2)
     return lines(traj1), lines(loads1), lines(traj2), lines(loads2)
 
 
-@pytest.mark.parametrize("coupling,first", [("loose", SUB * 5), ("loose", SUB * 5 + 1), ("tight", SUB * 5 + 1)],
-                         ids=["loose_end_of_mbdyn_step", "loose_between_substeps", "tight_between_substeps"])
-def test_restart_equals_the_split_run_bitwise(workdir, coupling, first):
+@pytest.mark.parametrize("coupling,first,nprocs", [
+    ("loose", SUB * 5, 1), ("loose", SUB * 5 + 1, 1), ("tight", SUB * 5 + 1, 1),
+    pytest.param("loose", SUB * 5 + 1, 2, marks=pytest.mark.two_cores)],
+    ids=["loose_end_of_mbdyn_step", "loose_between_substeps", "tight_between_substeps", "loose_between_substeps_2_ranks"])
+def test_restart_equals_the_split_run_bitwise(workdir, coupling, first, nprocs):
     wd = workdir
-    ref, traj, loads = reference(wd, first, coupling)
+    ref, traj, loads = reference(wd, first, coupling, nprocs)
     answers = [l.split()[1] for l in loads]  # the command of each loads message: 6 converged, 2 an iterate
     assert len(traj) == STEPS + 1 and answers.count("6") == STEPS + 1
     assert (coupling == "tight") == ("2" in answers)
-    tag = f"r{first}{coupling}"
-    traj1, loads1, traj2, loads2 = split_run(wd, first, tag, coupling)
+    tag = f"r{first}{coupling}{nprocs}"
+    traj1, loads1, traj2, loads2 = split_run(wd, first, tag, coupling, nprocs)
     done = first // SUB  # MBDyn steps solved with LAMMPS' loads before the restart
     # the peer: its trajectory (t, then x v theta theta' per point at 17 digits) and every loads
     # message it received (without the answer index, which each process counts from 0)
@@ -197,7 +202,7 @@ def test_restart_equals_the_split_run_bitwise(workdir, coupling, first):
     assert not differ, f"steps {differ} differ"
     # the particles do press on the mesh (else the loads would be zero and the test would check little)
     pressing = sum(1 for l in loads if max(abs(float(v)) for v in l.split()[2:]) > 1.0)
-    print(f"{coupling}, restart after {first} LAMMPS steps: {len(received)} loads messages, {len(traj2)} peer states, "
+    print(f"{coupling}, {nprocs} rank(s), restart after {first} LAMMPS steps: {len(received)} loads messages, {len(traj2)} peer states, "
           f"{SUB * STEPS - first + 1} steps of particles and vertices equal bit for bit; {pressing} exchanges "
           f"with point loads > 1 N")
     assert pressing >= STEPS - 1

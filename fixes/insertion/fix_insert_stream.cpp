@@ -182,6 +182,8 @@ void FixInsertStream::compute_insertion_properties()
                                    "(extrusion length " + std::to_string(L) + " < 3 x the largest radius " +
                             std::to_string(rmax) + ")");
   }
+  settings_.extrude_min = 0.;
+  settings_.extrude_max = L;
   ninsert_ = k_.nparticles > 0. ? static_cast<long>(static_cast<int>(k_.nparticles))
                                 : static_cast<long>(static_cast<int>((k_.mass + kTiny) / d.mass_expect()));
   double nflowrate = k_.particlerate;
@@ -249,10 +251,14 @@ int FixInsertStream::count_to_insert()
   if (!fraction_done_ || domain->box_change) {
     fraction_ = insertion::fraction_in_box(*face_, settings_, s_.ntry_mc, face_rng_, insert_rng_);
     fraction_done_ = true;
+    // LIGGGHTS 3.8 checks the shares summed over the ranks: on one rank, the share in the box
+    if (fraction_ < 0.9 || fraction_ > 1.1)
+      error->all(FLERR, prefix() + "insertion volume could not be distributed properly in parallel. Bad decomposition "
+                                   "or insertion face extrusion is too small or outside domain (" +
+                            std::to_string(fraction_) + " of the extrusion volume is inside the box, needs 0.9 to 1.1)");
   }
+  if (s_.parallel) insertion::narrow_to_box(settings_, p_ref_);  // geometry of the box only: the same at every call
   if (!k_.exact_number) return static_cast<int>(fraction_ * static_cast<double>(n) + insert_rng_.uniform());
-  if (fraction_ < 0.02) error->all(FLERR, prefix() + "Internal error distributing particles to processes "
-                                                     "(the extrusion volume lies outside the simulation box)");
   return n;
 }
 

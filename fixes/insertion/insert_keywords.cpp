@@ -198,10 +198,7 @@ void parse_stream_keywords(const std::vector<std::string> &a, int i, StreamKeywo
       if (s.ntry_mc < 1000) throw std::invalid_argument("ntry_mc must be > 1000, got " + a[i + 1]);
     } else if (key == "parallel") {
       need(a, i, 2, "yes or no");
-      if (yes_no_arg(a[i + 1], key))
-        throw std::invalid_argument("'parallel yes' is not supported by dembridge: use 'parallel no' (the default; "
-                                    "every rank draws the whole extrusion volume, and the particles are the same on "
-                                    "any number of ranks)");
+      s.parallel = yes_no_arg(a[i + 1], key);
     } else if (is_general_keyword(key)) {
       throw std::invalid_argument("unknown keyword or wrong keyword order: '" + key +
                                   "' at this place: LIGGGHTS 3.8 needs the general keywords (" + key +

@@ -42,6 +42,7 @@ struct StreamKeywords {
   double extrude_length = 0.0;  // 0: not given
   int duration = 0;             // 0: not given (= insert_every)
   int ntry_mc = 100000;
+  bool parallel = false;        // parallel yes: the extrusion depth drawn only where the box is
 };
 
 // args[0..2] = ID group style; args[3] must be "seed". Parses seed and the general keywords,

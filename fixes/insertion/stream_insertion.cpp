@@ -86,11 +86,34 @@ void candidate(const StreamFace &face, const StreamSettings &s, double rad, Park
   } else {
     face.draw(face_rng, pos);
   }
-  const double span = s.overlapcheck ? s.extrude_length : s.extrude_length - 2. * rad;
-  const double depth = -1. * (insert_rng.uniform() * span + rad + 0.);
+  const double span = s.overlapcheck ? s.extrude_max : s.extrude_max - 2. * rad;
+  const double depth = -1. * (insert_rng.uniform() * span + rad + s.extrude_min);
   push_back_by(pos, s.normal, depth);
 }
 }  // namespace
+
+void narrow_to_box(StreamSettings &s, const double *p_ref)
+{
+  const double L = s.extrude_length;
+  double lo = L, hi = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    const double corner[3] = {(c & 1) ? s.box.hi[0] : s.box.lo[0], (c & 2) ? s.box.hi[1] : s.box.lo[1],
+                              (c & 4) ? s.box.hi[2] : s.box.lo[2]};
+    double dot = 0.0;
+    for (int k = 0; k < 3; ++k) dot += (corner[k] - p_ref[k]) * s.normal[k];
+    dot = -dot;
+    if (dot > 0. && dot < L) {
+      hi = std::max(hi, dot);
+      lo = std::min(lo, dot);
+    } else if (dot < 0.) {
+      lo = 0.;
+    } else if (dot >= L) {
+      hi = L;
+    }
+  }
+  s.extrude_min = lo == L ? 0. : lo;
+  s.extrude_max = hi == 0. ? L : hi;
+}
 
 double fraction_in_box(const StreamFace &face, const StreamSettings &s, int ntry, ParkMiller &face_rng,
                        ParkMiller &insert_rng)

@@ -41,10 +41,17 @@ double distance_to_segment(const double *p, const double *a, const double *b);
 struct StreamSettings {
   double normal[3];          // unit face normal, oriented along the insertion velocity
   double extrude_length;     // L
+  // the depths a particle is drawn from: [min, min + max] behind the face (LIGGGHTS's extrude_length_min/max;
+  // 0 and L unless 'parallel yes' narrows them to the box, narrow_to_box)
+  double extrude_min = 0.0, extrude_max = 0.0;
   bool overlapcheck = true;
   bool all_in = false;
   Box box;                   // the simulation box (LIGGGHTS: the rank's sub-domain)
 };
+
+// LIGGGHTS's calc_ins_fraction with 'parallel yes' (on one rank, the sub-domain = the box): the depths
+// behind the face (at p_ref) of the box corners between 0 and L bound the drawn depths.
+void narrow_to_box(StreamSettings &s, const double *p_ref);
 
 // LIGGGHTS's Domain::is_in_subdomain for a box: lo <= x < hi in each direction.
 bool in_box(const Box &box, const double *x);

@@ -102,7 +102,8 @@ def test_insertion_bit_identical_one_rank(name, liggghts_frames, tmp_path):
                                          ("pack_mass_three_templates", 4),
                                          ("rate_region_two_templates", 2),
                                          ("stream_extrude_two_templates", 2),
-                                         ("stream_mass_every_all_in", 2), ("stream_no_overlapcheck_uniform", 4)])
+                                         ("stream_mass_every_all_in", 2), ("stream_no_overlapcheck_uniform", 4),
+                                         ("stream_parallel_cut_box", 2)])
 def test_insertion_rank_invariant(name, nprocs, liggghts_frames, tmp_path):
     """On 2 and 4 ranks the plugin inserts LIGGGHTS's one-rank particles (LIGGGHTS itself does not)."""
     deck = (DATA / ("in." + name)).read_text()

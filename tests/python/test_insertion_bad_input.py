@@ -42,6 +42,9 @@ def swap(old, new, lines=GOOD):
 
 STREAM_GOOD = swap(I, FACE + "\n" + STREAM)
 STREAM_GOOD = [x for line in STREAM_GOOD for x in line.split("\n")]
+# a box that holds the whole extrusion volume (0.08 to 0.11), as LIGGGHTS 3.8 requires (at least 90 %)
+STREAM_GOOD = swap("region box block -0.05 0.05 -0.05 0.05 0 0.1 units box",
+                   "region box block -0.05 0.05 -0.05 0.05 0 0.12 units box", STREAM_GOOD)
 
 
 def stream(old, new, lines=None):
@@ -177,8 +180,12 @@ CASES = {
                                [STR, "requires a planar face for insertion", "triangle 2"]),
     "stream_insert_every_once": (stream(None, ("vel constant", "insert_every once vel constant")),
                                  [STR, "must not define 'particlerate' or 'massrate' for 'insert_every' = once"]),
-    "stream_parallel_yes": (stream(None, ("extrude_length 0.03", "extrude_length 0.03 parallel yes")),
-                            [STR, "'parallel yes' is not supported", "use 'parallel no'"]),
+    "stream_parallel_word": (stream(None, ("extrude_length 0.03", "extrude_length 0.03 parallel maybe")),
+                             [STR, "'parallel'", "'maybe'"]),
+    "stream_extrusion_outside_box": (stream("region box block -0.05 0.05 -0.05 0.05 0 0.12 units box",
+                                            "region box block -0.05 0.05 -0.05 0.05 0 0.1 units box"),
+                                     [STR, "insertion volume could not be distributed properly",
+                                      "of the extrusion volume is inside the box, needs 0.9 to 1.1"]),
     "stream_duration_with_extrude": (stream(None, ("extrude_length 0.03", "extrude_length 0.03 duration 10")),
                                      [STR, "must not provide both 'extrude_length' and 'duration'"]),
     "stream_moving_face": (stream("fix nve all nve/sphere", "fix mv all move/mesh mesh face linear 0 0 0.1\n"

@@ -179,7 +179,8 @@ void FixMeshSurface::init()
   if (conveyor_ && !movers_.empty())
     error->all(FLERR, std::string("fix ") + style + " (id " + id + "): surface_vel/surface_ang_vel cannot be combined with fix move/mesh");
   // an empty box is wrapped around the meshes already for the other fixes' init and setup
-  if (atom->natoms == 0 && leads_box_wrap()) ShrinkWrapAroundMeshes::set_empty_box(domain, all_meshes_extent());
+  if (atom->natoms == 0 && domain->nonperiodic == 2 && leads_box_wrap())
+    ShrinkWrapAroundMeshes::set_empty_box(domain, all_meshes_extent());
   if (wear_) {
     const std::string caller = std::string("fix ") + style + " (id " + id + ") wear finnie";
     const property::GlobalProperty *k = FixPropertyGlobal::find(lmp, "k_finnie");
@@ -267,7 +268,7 @@ void FixMeshSurface::post_run() { close_box_wrap(); }
 
 void FixMeshSurface::open_box_wrap()
 {
-  if (leads_box_wrap()) box_wrap_.open(domain, all_meshes_extent(), atom->natoms);
+  if (domain->nonperiodic == 2 && leads_box_wrap()) box_wrap_.open(domain, all_meshes_extent(), atom->natoms);
 }
 
 // The first mesh fix in fix order wraps the box around all of them.

@@ -241,3 +241,40 @@ TEST(StreamFace, SegmentDistanceAndBoxTest)
   EXPECT_TRUE(in_box(box, lo));
   EXPECT_FALSE(in_box(box, hi));  // LIGGGHTS's sub-domain test is half-open
 }
+
+// parallel yes: the drawn depths are bounded by the box corners' depths behind the face that lie inside
+// (0, L); a box that holds the whole extrusion volume leaves [0, L] (the same as parallel no).
+TEST(StreamSettings, ParallelNarrowsTheDepthsToTheBox)
+{
+  StreamSettings s{};
+  s.normal[2] = -1.0;  // particles move down; the extrusion volume lies above the face at z = 1
+  s.extrude_length = 0.5;
+  const double p_ref[3] = {0, 0, 1};
+  s.box = Box{{-1, -1, -2}, {1, 1, 3}};
+  narrow_to_box(s, p_ref);
+  EXPECT_EQ(s.extrude_min, 0.0);
+  EXPECT_EQ(s.extrude_max, 0.5);
+  s.box = Box{{-1, -1, -2}, {1, 1, 1.25}};  // the top cuts the volume at depth 0.25
+  narrow_to_box(s, p_ref);
+  EXPECT_EQ(s.extrude_min, 0.0);
+  EXPECT_EQ(s.extrude_max, 0.25);
+  s.box = Box{{-1, -1, 1.125}, {1, 1, 3}};  // the bottom starts at depth 0.125, the top is beyond L
+  narrow_to_box(s, p_ref);
+  EXPECT_EQ(s.extrude_min, 0.125);
+  EXPECT_EQ(s.extrude_max, 0.5);
+  StreamKeywords sk;
+  parse_stream_keywords({"ins", "all", "insert/stream", "insertion_face", "f", "extrude_length", "0.5", "parallel",
+                         "yes"},
+                        3, sk);
+  EXPECT_TRUE(sk.parallel);
+}
+
+TEST(InsertKeywords, SetPropertyNameAndValue)
+{
+  const std::vector<std::string> a = {"ins", "all", "insert/pack", "seed", "32452867", "distributiontemplate", "pdd",
+                                      "set_property", "tracer", "7.25", "insert_every", "once", "region", "r"};
+  InsertKeywords k;
+  EXPECT_EQ(a[parse_general_keywords(a, k)], "region");
+  EXPECT_EQ(k.set_property, "tracer");
+  EXPECT_EQ(k.set_property_value, 7.25);
+}

@@ -12,7 +12,10 @@ LAMMPS's built-in commands; those lines are rewritten here, each rule reported o
 * ``region``, ``create_atoms``, ``displace_atoms``, ``velocity`` without a ``units`` keyword get
   ``units box``: LIGGGHTS's default, where LAMMPS's is ``units lattice``;
 * ``set ... diameter D`` (no ``density`` after it) keeps each atom's density, as LIGGGHTS does (LAMMPS
-  keeps the mass): the masses are scaled by (D/d)^3 first (a variable and a set ... mass before the line).
+  keeps the mass): the masses are scaled by (D/d)^3 first (a variable and a set ... mass before the line);
+* ``thermo_style custom ... ke ...`` -> the column of the compute ``thermo_kin_eng`` (style ``ke``, defined
+  once), headed ``KinEng``: LIGGGHTS's thermo ``ke`` is that compute, the sum of m v^2 / 2, where LAMMPS's is
+  the temperature times dof k_B / 2 with the degrees of freedom counted at setup (0 atoms before an insertion).
 
 ``include FILE`` and ``jump FILE`` with a literal file name are translated the same way (the line
 then names the translated copy); a file name holding a variable runs untranslated, and says so.
@@ -34,10 +37,14 @@ RULES = {
              "units lattice in LAMMPS: units box added where the command gives none",
     "diameter": "set ... diameter keeps the density in LIGGGHTS and the mass in LAMMPS: each atom's mass is "
                 "scaled by (D/d)^3 before, which keeps its density",
+    "ke": "thermo_style ... ke -> c_thermo_kin_eng headed KinEng: LIGGGHTS takes the kinetic energy from the "
+          "compute ke, LAMMPS from the temperature and the degrees of freedom counted at setup",
     "include": "included files are translated too: the line names the translated copy",
     "variable_file": "a file name holding a variable is read as it is, without translation",
 }
 
+KIN_ENG_ID = "thermo_kin_eng"  # LIGGGHTS's own compute of the thermo ke
+KIN_ENG_COLUMN = "c_" + KIN_ENG_ID
 _UNITS_BOX = ("region", "create_atoms", "displace_atoms", "velocity")
 _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
@@ -101,6 +108,9 @@ def rewrite_words(words):
                 k += 3
             else:
                 k += 1
+    elif cmd == "thermo_style" and out[1:2] == ["custom"] and "ke" in out[2:]:
+        out = out[:2] + [KIN_ENG_COLUMN if w == "ke" else w for w in out[2:]]
+        rules.append("ke")
     elif cmd == "compute_modify":
         for k in range(2, len(out)):
             if out[k] in ("dynamic", "extra") and k + 1 < len(out):
@@ -134,6 +144,15 @@ def keep_density(words):
     target = " ".join(words[1:3])
     return ([f"variable dembridge_mass atom mass*({d}/(2.0*radius))^3", f"set {target} mass v_dembridge_mass"],
             ["variable dembridge_mass delete"])
+
+
+def kin_eng_column(words):
+    """The commands before and after a thermo_style whose ke became the compute ke column: the compute
+    (defined unless it is, so a loop may run the line again) and LIGGGHTS's column name."""
+    if not words or words[0] != "thermo_style" or KIN_ENG_COLUMN not in words:
+        return None
+    return ([f'if "$(is_defined(compute,{KIN_ENG_ID})) == 0" then "compute {KIN_ENG_ID} all ke"'],
+            [f"thermo_modify colname {KIN_ENG_COLUMN} KinEng"])
 
 
 def _file_word(words):
@@ -190,6 +209,8 @@ def translate_text(text, name, notes=True, resolve=None, seen=None):
         around = keep_density(new)
         if around:
             rules.append("diameter")
+        else:
+            around = kin_eng_column(new)
         if not rules:
             out += group
             continue

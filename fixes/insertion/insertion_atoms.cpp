@@ -5,6 +5,7 @@
 #include "atom.h"
 #include "lammps_atom_vec.h"
 #include "comm.h"
+#include "compute.h"
 #include "domain.h"
 #include "error.h"
 #include "modify.h"
@@ -42,6 +43,14 @@ bool owns(LAMMPS *lmp, const double *x)
     if (x[k] >= d->subhi[k] && c->myloc[k] != c->procgrid[k] - 1) return false;
   }
   return true;
+}
+// The temperature computes count their degrees of freedom at setup, when an insertion deck has no atoms yet
+// (0 dof, so temp and ke stay 0 without compute_modify ... dynamic/dof yes): tell them the count changed,
+// as LIGGGHTS's thermo (its ke is the sum of m v^2 / 2) never needs. Collective: every rank inserts together.
+void recount_temperature_dof(LAMMPS *lmp)
+{
+  for (Compute *c : lmp->modify->get_compute_list())
+    if (c->tempflag) c->setup();
 }
 }  // namespace
 
@@ -126,6 +135,7 @@ bigint create_spheres(LAMMPS *lmp, const std::vector<NewSphere> &all, const SetP
       atom->map_init();
       atom->map_set();
     }
+    recount_temperature_dof(lmp);
   }
   return n;
 }

@@ -240,6 +240,9 @@ def test_translate_writes_a_lammps_deck_that_plain_lmp_runs_the_same(rewrites_ru
     ("region r delete", None),
     ("velocity all set 0 0 -1", "velocity all set 0 0 -1 units box"),
     ("create_atoms 1 single 0 0 0", "create_atoms 1 single 0 0 0 units box"),
+    ("thermo_style custom step atoms ke c_1 vol", "thermo_style custom step atoms c_thermo_kin_eng c_1 vol"),
+    ("thermo_style custom step atoms c_ke", None),
+    ("thermo_style one", None),
     ("fix f all nve/sphere", None),
 ])
 def test_rewrite_of_one_command(words, expected):

@@ -53,7 +53,8 @@ rx = HISTORY ('JREAC_X', 0)
 rz = HISTORY ('JREAC_Z', 0)
 
 # the blocks' surfaces with their node velocities every 0.05 s: out/column0.pvd (ParaView; plot_column.py draws one)
-os.makedirs ('out', exist_ok = True)
+outdir = os.path.join (os.path.dirname (os.path.abspath (__file__)), 'out')  # DEM writes in the script's folder
+os.makedirs (outdir, exist_ok = True)
 OUTPUT (['NUMBER', 'LINVEL'], mode = ['MESH'])
 
 h = 0.2 * CRITICAL ()
@@ -61,7 +62,7 @@ duration = float (ARGV()[0]) if ARGV () else 4.0
 print ('critical step estimate %.3g s, step %.3g s' % (h / 0.2, h))
 DEM (duration, h, (0.05, 0.005), 'out/column')
 
-out = os.path.join ('out', 'column_history.csv')
+out = os.path.join (outdir, 'column_history.csv')
 with open (out, 'w') as fh:
   fh.write ('TIME,base_DX,top_DX,top_DZ,top_VX,j0_JREAC_X,j0_JREAC_Z\n')
   for row in zip (T, xb, xt, zt, vt, rx, rz):

@@ -3,7 +3,7 @@
 #include "comm.h"
 #include "error.h"
 
-#include <filesystem>
+#include <cstdlib>
 #include <fstream>
 #include <mpi.h>
 #include <sstream>
@@ -50,11 +50,15 @@ std::vector<std::pair<std::string, std::string>> &open_files()
   return chain;
 }
 
+// The file's canonical path, or the path as written when it does not resolve. POSIX realpath, not
+// std::filesystem: the wheel keeps to the C++ library of manylinux_2_28 systems (gcc 8's).
 std::string identity(const std::string &path)
 {
-  std::error_code ec;
-  const std::filesystem::path p = std::filesystem::weakly_canonical(path, ec);
-  return ec ? path : p.string();
+  char *real = ::realpath(path.c_str(), nullptr);
+  if (!real) return path;
+  const std::string id(real);
+  std::free(real);
+  return id;
 }
 }  // namespace
 

@@ -130,8 +130,7 @@ def snapshot(out, surface):
 if __name__ == "__main__":
     ap = argparse.ArgumentParser()
     ap.add_argument("--plugin", default=dembridge.plugin_path())
-    ap.add_argument("--testpeer", default=os.environ.get("DEMBRIDGE_MBDYN_TESTPEER")
-                    or os.path.join(ROOT, "build", "coupling", "mbdyn_testpeer"))
+    ap.add_argument("--testpeer", default=dembridge.testpeer_path())  # pip's, or the source tree's build
     ap.add_argument("--steps", type=int, default=15000)
     ap.add_argument("--every", type=int, default=500)
     ap.add_argument("--out", default=os.path.join(HERE, "out"))

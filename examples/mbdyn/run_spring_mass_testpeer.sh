@@ -7,12 +7,19 @@ cd "$(dirname "$0")"
 ROOT=$(cd ../.. && pwd)
 BUILD=${BUILD:-$ROOT/build}
 VENV=${DEMBRIDGE_VENV:-$ROOT/.venv}
+# the source tree's build; else a pip install: its commands on PATH, the plugin loaded by lmp itself
+if [ -x "$BUILD/coupling/mbdyn_testpeer" ]; then
+  TESTPEER="$BUILD/coupling/mbdyn_testpeer" LMP="$VENV/bin/lmp" PYTHON="$VENV/bin/python"
+  PLUGIN=(-var plugin "$BUILD/dembridgeplugin.so")
+else
+  TESTPEER=dembridge-mbdyn-testpeer LMP=lmp PYTHON=python PLUGIN=(-var load no)
+fi
 N=${1:-1}
 rm -f mbdyn.sock
-"$BUILD/coupling/mbdyn_testpeer" --path mbdyn.sock --nodes 1 --orientation none --coupling loose \
+"$TESTPEER" --path mbdyn.sock --nodes 1 --orientation none --coupling loose \
     --steps 500 --dt 0.004 --mass 2 --x0 0.1,0,0 --v0 0,0,0 --trajectory spring_mass_mbdyn.txt &
 PEER=$!
-"$VENV/bin/lmp" -in in.spring_mass -var plugin "$BUILD/dembridgeplugin.so" -var sock mbdyn.sock \
+"$LMP" -in in.spring_mass "${PLUGIN[@]}" -var sock mbdyn.sock \
     -var substeps "$N" -log spring_mass.log -nocite
 wait $PEER
-"$VENV/bin/python" plot_spring_mass.py spring_mass_mbdyn.txt spring_mass.png
+"$PYTHON" plot_spring_mass.py spring_mass_mbdyn.txt spring_mass.png

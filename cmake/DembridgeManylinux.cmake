@@ -17,7 +17,16 @@ target_sources(dembridgeplugin PRIVATE ${PROJECT_SOURCE_DIR}/portable/old_glibc_
                                        ${PROJECT_SOURCE_DIR}/portable/old_libstdcxx_symbols.cpp)
 # dlopen & co. live in libdl.so.2 before glibc 2.34
 target_link_options(dembridgeplugin PRIVATE "LINKER:--push-state,--no-as-needed,-l:libdl.so.2,--pop-state")
-if(TARGET mbdyn_testpeer)
+# (where the static C and C++ libraries are installed: Debian's libc6-dev and libstdc++-12-dev have them,
+# Fedora and RHEL need glibc-static and libstdc++-static; without them the test peer is linked as usual)
+include(CheckCXXSourceCompiles)
+set(CMAKE_REQUIRED_LINK_OPTIONS -static -pthread)
+check_cxx_source_compiles("#include <iostream>\n#include <thread>\nint main() { std::thread t([] { std::cout << 1; }); t.join(); }"
+  DEMBRIDGE_STATIC_LINK_WORKS)
+unset(CMAKE_REQUIRED_LINK_OPTIONS)
+set(_peer "test peer linked as usual: no static C/C++ libraries")
+if(TARGET mbdyn_testpeer AND DEMBRIDGE_STATIC_LINK_WORKS)
   target_link_options(mbdyn_testpeer PRIVATE -static)
+  set(_peer "test peer static")
 endif()
-message(STATUS "dembridge: manylinux_2_28 build (old symbol versions bound, test peer static)")
+message(STATUS "dembridge: manylinux_2_28 build (old symbol versions bound, ${_peer})")

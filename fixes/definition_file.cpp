@@ -51,7 +51,7 @@ std::vector<std::pair<std::string, std::string>> &open_files()
 }
 
 // The file's canonical path, or the path as written when it does not resolve. POSIX realpath, not
-// std::filesystem: the wheel keeps to the C++ library of manylinux_2_28 systems (gcc 8's).
+// std::filesystem: the wheel keeps to the C++ library of manylinux_2_24 systems (gcc 6's, without it).
 std::string identity(const std::string &path)
 {
   char *real = ::realpath(path.c_str(), nullptr);

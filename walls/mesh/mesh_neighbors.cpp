@@ -99,6 +99,7 @@ void MeshNeighbors::build(const TriangleMesh &m, int n, const double *const *x, 
   first_.assign(n + 1, 0);
   tri_.clear();
   tests_ = 0;
+  ++builds_;
   if (m.size() == 0) return;  // a rank of a distributed mesh may keep no triangle
   double rmax = 0.0;
   for (int i = 0; i < n; ++i)

@@ -7,6 +7,7 @@
 
 #include "triangle_mesh.h"
 
+#include <cstdint>
 #include <vector>
 
 namespace dembridge::mesh {
@@ -24,6 +25,7 @@ class MeshNeighbors {
   int nparticles() const { return static_cast<int>(first_.size()) - 1; }
   std::size_t total() const { return tri_.size(); }
   std::size_t tests_performed() const { return tests_; }  // criterion evaluations of the last build
+  std::uint64_t builds() const { return builds_; }  // how often the lists were built (they change only then)
   double memory_bytes() const;
 
   // The §6 criterion for one particle and triangle, and inside the triangle's bounding box grown
@@ -34,6 +36,7 @@ class MeshNeighbors {
   std::vector<int> first_{0};
   std::vector<int> tri_;
   std::size_t tests_ = 0;
+  std::uint64_t builds_ = 0;
   // bins
   Vec3 lo_{};
   double h_ = 1.0;

@@ -79,6 +79,7 @@ class FixMeshSurface : public LAMMPS_NS::Fix {
   const std::vector<double> &contacts() const { return contacts_; }
   int ncandidates(int i) const { return i < neighbors_.nparticles() ? neighbors_.count(i) : 0; }
   const int *candidates(int i) const { return neighbors_.begin(i); }
+  std::uint64_t candidate_builds() const { return neighbors_.builds(); }  // changes whenever the lists may have
   mesh::TriangleContact closest(int tri, const double *x, double radius) const
   {
     return mesh::resolve_contact(*mesh_, tri, {x[0], x[1], x[2]}, radius);

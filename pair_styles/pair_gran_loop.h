@@ -9,6 +9,7 @@
 #include "pair_gran_kernel.h"
 #include "pair_gran_scan.h"
 #include "pair_gran_lanes.h"
+#include "pair_gran_window_scan.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -123,7 +124,7 @@ using Contacts = ScalarContacts;
 #pragma GCC push_options
 #pragma GCC target("avx2")
 namespace avx2_scan {
-using Scan = Avx2Scan;
+using Scan = Avx2WindowScan;
 #ifdef DEMBRIDGE_HAVE_LANE_CONTACTS
 using Contacts = LaneContacts<ScalarContacts>;
 #else

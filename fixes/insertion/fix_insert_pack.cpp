@@ -296,9 +296,8 @@ void FixInsertPack::write_restart(FILE *fp)
 {
   if (comm->me != 0) return;
   insertion::RestartWriter w(rate_ ? kRateRecord : kPackRecord);
-  for (double x : {double(k_.seed), double(next_reneighbor), double(most_recent_), double(ninserted_), massinserted_,
-                   k_.exact_number ? 1. : 0., volume_done_ ? 1. : 0., region_volume_, region_volume_local_})
-    w.put(x);
+  insertion::put(w, {k_.seed, next_reneighbor, most_recent_, ninserted_, massinserted_, k_.exact_number});
+  for (double x : {volume_done_ ? 1. : 0., region_volume_, region_volume_local_}) w.put(x);
   w.put(insert_rng_);
   w.put(region_rng_);
   w.write(fp);
@@ -311,16 +310,12 @@ void FixInsertPack::restart(char *buf)
 {
   try {
     insertion::RestartReader r(buf, rate_ ? kRateRecord : kPackRecord);
-    const int seed = static_cast<int>(r.get());
-    if (seed != k_.seed)
-      throw std::invalid_argument("seed " + std::to_string(k_.seed) + " differs from the seed " + std::to_string(seed) +
-                                  " the restart file was written with (define the fix with the same seed as before "
-                                  "write_restart)");
-    const auto next = static_cast<bigint>(r.get());
-    most_recent_ = static_cast<bigint>(r.get());
-    ninserted_ = r.get_long();
-    massinserted_ = r.get();
-    k_.exact_number = r.get_bool();
+    const insertion::InsertionProgress progress = insertion::get_progress(r, k_.seed);
+    const auto next = static_cast<bigint>(progress.next_step);
+    most_recent_ = progress.most_recent;
+    ninserted_ = progress.ninserted;
+    massinserted_ = progress.mass_inserted;
+    k_.exact_number = progress.exact_number;
     volume_done_ = r.get_bool();
     region_volume_ = r.get();
     region_volume_local_ = r.get();

@@ -404,9 +404,8 @@ void FixInsertStream::write_restart(FILE *fp)
 {
   if (comm->me != 0) return;
   insertion::RestartWriter w(kStreamRecord);
-  for (double x : {double(k_.seed), double(next_reneighbor), double(most_recent_), double(ninserted_), massinserted_,
-                   k_.exact_number ? 1. : 0., fraction_done_ ? 1. : 0., fraction_, update->dt})
-    w.put(x);
+  insertion::put(w, {k_.seed, next_reneighbor, most_recent_, ninserted_, massinserted_, k_.exact_number});
+  for (double x : {fraction_done_ ? 1. : 0., fraction_, update->dt}) w.put(x);
   w.put(insert_rng_);
   w.put(face_rng_);
   w.write(fp);
@@ -419,16 +418,12 @@ void FixInsertStream::restart(char *buf)
 {
   try {
     insertion::RestartReader r(buf, kStreamRecord);
-    const int seed = static_cast<int>(r.get());
-    if (seed != k_.seed)
-      throw std::invalid_argument("seed " + std::to_string(k_.seed) + " differs from the seed " + std::to_string(seed) +
-                                  " the restart file was written with (define the fix with the same seed as before "
-                                  "write_restart)");
-    const auto next = static_cast<bigint>(r.get());
-    most_recent_ = static_cast<bigint>(r.get());
-    ninserted_ = r.get_long();
-    massinserted_ = r.get();
-    k_.exact_number = r.get_bool();
+    const insertion::InsertionProgress progress = insertion::get_progress(r, k_.seed);
+    const auto next = static_cast<bigint>(progress.next_step);
+    most_recent_ = progress.most_recent;
+    ninserted_ = progress.ninserted;
+    massinserted_ = progress.mass_inserted;
+    k_.exact_number = progress.exact_number;
     fraction_done_ = r.get_bool();
     fraction_ = r.get();
     restart_dt_ = r.get();

@@ -2,6 +2,7 @@
 
 #include <cstring>
 #include <stdexcept>
+#include <string>
 
 namespace dembridge::insertion {
 
@@ -44,6 +45,30 @@ void RestartReader::get(ParkMiller &rng)
   std::array<double, 3> s;
   for (double &x : s) x = get();
   rng.restore(s);
+}
+
+void put(RestartWriter &w, const InsertionProgress &p)
+{
+  for (double x : {double(p.seed), double(p.next_step), double(p.most_recent), double(p.ninserted), p.mass_inserted,
+                   p.exact_number ? 1. : 0.})
+    w.put(x);
+}
+
+InsertionProgress get_progress(RestartReader &r, int expected_seed)
+{
+  InsertionProgress p;
+  p.seed = static_cast<int>(r.get());
+  if (p.seed != expected_seed)
+    throw std::invalid_argument("seed " + std::to_string(expected_seed) + " differs from the seed " +
+                                std::to_string(p.seed) +
+                                " the restart file was written with (define the fix with the same seed as before "
+                                "write_restart)");
+  p.next_step = static_cast<std::int64_t>(r.get());
+  p.most_recent = static_cast<std::int64_t>(r.get());
+  p.ninserted = r.get_long();
+  p.mass_inserted = r.get();
+  p.exact_number = r.get_bool();
+  return p;
 }
 
 }  // namespace dembridge::insertion

@@ -5,6 +5,7 @@
 
 #include "park_miller.h"
 
+#include <cstdint>
 #include <cstdio>
 #include <vector>
 
@@ -35,5 +36,19 @@ class RestartReader {
   std::vector<double> v_;
   std::size_t next_ = 2;
 };
+
+// What every insertion fix writes first: its seed (checked on reading) and how far it has got.
+struct InsertionProgress {
+  int seed = 0;
+  std::int64_t next_step = 0;    // next insertion step, 0 when done
+  std::int64_t most_recent = -1; // last insertion step
+  long ninserted = 0;
+  double mass_inserted = 0.0;
+  bool exact_number = false;
+};
+
+void put(RestartWriter &w, const InsertionProgress &p);
+// Throws std::invalid_argument naming both seeds unless the record was written with expected_seed.
+InsertionProgress get_progress(RestartReader &r, int expected_seed);
 
 }  // namespace dembridge::insertion

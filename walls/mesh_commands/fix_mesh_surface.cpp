@@ -543,9 +543,10 @@ void FixMeshSurface::write_restart(FILE *fp)
   fwrite(&size, sizeof(int), 1, fp);
   fwrite(&marker, sizeof(int), 1, fp);
   fwrite(&n, sizeof(int), 1, fp);
-  fwrite(state.data(), sizeof(double), state.size(), fp);
+  // an empty vector's data() may be null, which fwrite must not be given (even for 0 items)
+  if (!state.empty()) fwrite(state.data(), sizeof(double), state.size(), fp);
   fwrite(&nwear, sizeof(int), 1, fp);
-  fwrite(wear_total_.data(), sizeof(double), wear_total_.size(), fp);
+  if (!wear_total_.empty()) fwrite(wear_total_.data(), sizeof(double), wear_total_.size(), fp);
 }
 
 void FixMeshSurface::restart(char *buf)
@@ -557,7 +558,7 @@ void FixMeshSurface::restart(char *buf)
   if (layout2) std::memcpy(&n, buf + sizeof(int), sizeof(int));
   const char *p = buf + (layout2 ? 2 : 1) * sizeof(int);
   std::vector<double> state(std::size_t(std::max(n, 0)));
-  std::memcpy(state.data(), p, state.size() * sizeof(double));
+  if (!state.empty()) std::memcpy(state.data(), p, state.size() * sizeof(double));
   p += state.size() * sizeof(double);
   try {
     mesh_->restore_state(state);

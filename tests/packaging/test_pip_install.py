@@ -77,7 +77,10 @@ def installed(tmp_path_factory):
     # `pip wheel` then `pip install <wheel>`: both user paths with one build (pip install <repository>
     # is the same build followed by the same install).
     dist = base / "dist"
-    rc, out = _run([v.python, "-m", "pip", "wheel", "-v", "--no-deps", "-w", str(dist), ROOT], str(base), timeout=1200)
+    # one compile job: ctest gives this entry one core, beside the other one-core entries (tests/packaging/CMakeLists.txt)
+    env = dict(_clean_env(), CMAKE_BUILD_PARALLEL_LEVEL="1")
+    rc, out = _run([v.python, "-m", "pip", "wheel", "-v", "--no-deps", "-w", str(dist), ROOT], str(base), timeout=1200,
+                   env=env)
     assert rc == 0, "pip wheel <repository> failed:\n" + out[-6000:]
     wheels = [p for p in dist.iterdir() if re.fullmatch(r"dembridge-[0-9.]+-py3-none-linux_x86_64\.whl", p.name)]
     assert len(wheels) == 1, (sorted(p.name for p in dist.iterdir()), out[-3000:])

@@ -14,6 +14,8 @@
 
 #include "mbdyn_test_peer.h"
 #include "free_bodies_peer.h"
+#include "free_modal_body_peer.h"
+#include "modal_fem_file.h"
 #include "modal_peer.h"
 
 using namespace dembridge::mbdyn::testpeer;
@@ -58,6 +60,13 @@ const char* kUsage =
     "                           no, orientation matrix, use/rotate reference node forces yes; with\n"
     "                           --path, --steps, --dt, --gravity, --trajectory: t, then per body, reference\n"
     "                           first, x R(row by row) v w)\n"
+    "  --modal-fem FILE [--modal-origin LABEL] [--modal-node x,y,z,vx,vy,vz,wx,wy,wz]\n"
+    "  [--modal-initial q1,q'1,q2,q'2,...]\n"
+    "                           `external modal, type, all` on a free modal body instead: MBDyn's `modal`\n"
+    "                           joint (that FEM file, no interface nodes, `origin node` LABEL) on a modal\n"
+    "                           node starting at x with R = I, v, w (with --path, --coupling, --steps, --dt,\n"
+    "                           --tolerance, --max-iterations, --trajectory: t, x R(row by row) v w, then\n"
+    "                           q q' q'' per mode)\n"
     "  --kinematics-log FILE    one line per kinematics message: index, command, then per point\n"
     "                           x(3) R(9, row by row) v(3) w(3), global frame\n"
     "  --loads-log FILE         one line per loads answer: index, command, then per point the force\n"
@@ -191,6 +200,56 @@ int run_free_bodies(const PeerSetup& s, FreeBodiesPeerSetup f, const std::vector
   return out.exit_status;
 }
 
+int run_free_modal(const PeerSetup& s, FreeModalBodyPeerSetup f, const std::string& fem_path,
+                   const std::string& origin, const std::vector<double>& node, const std::vector<double>& initial,
+                   const std::string& trajectory_file) {
+  if (s.place.unix_path.empty()) usage_error("the free modal body peer needs --path");
+  if (s.coupling == CouplingMode::None) usage_error("the free modal body peer is loose or tight");
+  try {
+    f.fem = read_modal_fem_file(fem_path);
+  } catch (const std::exception& e) {
+    usage_error(std::string("--modal-fem: ") + e.what());
+  }
+  if (!origin.empty()) {
+    for (std::size_t i = 0; i < f.fem.labels.size(); ++i)
+      if (f.fem.labels[i] == origin) f.origin = static_cast<int>(i);
+    if (f.origin < 0) usage_error("--modal-origin: FEM node \"" + origin + "\" is not in " + fem_path);
+  }
+  if (!node.empty()) {
+    if (node.size() != 9) usage_error("--modal-node expects x,y,z,vx,vy,vz,wx,wy,wz");
+    for (int k = 0; k < 3; ++k) {
+      f.x0[k] = node[k];
+      f.v0[k] = node[3 + k];
+      f.w0[k] = node[6 + k];
+    }
+  }
+  if (!initial.empty()) {
+    if (initial.size() != 2 * f.fem.modes()) usage_error("--modal-initial expects q, q' for each mode of the FEM file");
+    for (std::size_t j = 0; j < f.fem.modes(); ++j) {
+      f.q0.push_back(initial[2 * j]);
+      f.qdot0.push_back(initial[2 * j + 1]);
+    }
+  }
+  f.place = s.place;
+  f.tight = s.coupling == CouplingMode::Tight;
+  f.max_iterations = s.max_iterations;
+  f.tolerance = s.tolerance;
+  f.steps = s.steps;
+  f.dt = s.dt;
+  f.accept_timeout_s = s.accept_timeout_s;
+  f.io_timeout_s = s.io_timeout_s;
+  f.trajectory = trajectory_file;
+  const std::string path = f.place.unix_path;
+  f.on_listening = [path]() {
+    std::cout << "mbdyn_testpeer: listening on unix socket " << path << " (external modal, free modal body)"
+              << std::endl;
+  };
+  const FreeModalBodyPeerOutcome out = run_free_modal_body_test_peer(f);
+  std::cout << "mbdyn_testpeer: exit " << out.exit_status << ": " << out.log << " (" << out.kinematics_sent
+            << " kinematics messages)" << std::endl;
+  return out.exit_status;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -205,6 +264,9 @@ int main(int argc, char** argv) {
   FreeBodiesPeerSetup free_bodies;
   bool have_reference_body = false;
   std::vector<double> point_labels;
+  FreeModalBodyPeerSetup free_modal;
+  std::string modal_fem, modal_origin;
+  std::vector<double> modal_node, modal_initial;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -289,6 +351,10 @@ int main(int argc, char** argv) {
     else if (a == "--modal-damping") modal.damping = parse_list(a, value());
     else if (a == "--modal-q0") modal.q0 = parse_list(a, value());
     else if (a == "--kinematics-log") s.kinematics_log = value();
+    else if (a == "--modal-fem") modal_fem = value();
+    else if (a == "--modal-origin") modal_origin = value();
+    else if (a == "--modal-node") modal_node = parse_list(a, value());
+    else if (a == "--modal-initial") modal_initial = parse_list(a, value());
     else if (a == "--reference-body") {
       free_bodies.reference = parse_body(a, value());
       have_reference_body = true;
@@ -310,8 +376,16 @@ int main(int argc, char** argv) {
   const bool files = !s.files.in_path.empty() || !s.files.out_path.empty();
   const bool modal_body = !modal.mass.empty() || !modal.stiffness.empty();
   if ((!s.resume_state.empty() || !s.save_state.empty()) &&
-      (files || modal_body || have_reference_body || !free_bodies.points.empty() || s.coupling == CouplingMode::None))
+      (files || modal_body || !modal_fem.empty() || have_reference_body || !free_bodies.points.empty() ||
+       s.coupling == CouplingMode::None))
     usage_error("--save-state and --resume are for the oscillator nodes over the socket, coupling loose or tight");
+  if (modal_fem.empty() && (!modal_origin.empty() || !modal_node.empty() || !modal_initial.empty()))
+    usage_error("--modal-origin, --modal-node and --modal-initial need --modal-fem");
+  if (!modal_fem.empty()) {
+    if (modal_body || have_reference_body || !free_bodies.points.empty() || files)
+      usage_error("--modal-fem is a peer of its own (not with --modal-mass, --reference-body or --file-in)");
+    return run_free_modal(s, free_modal, modal_fem, modal_origin, modal_node, modal_initial, trajectory_file);
+  }
   if (modal_body) return run_modal(s, modal, trajectory_file);
   if (have_reference_body || !free_bodies.points.empty()) {
     if (!have_reference_body) usage_error("--point-body needs --reference-body");

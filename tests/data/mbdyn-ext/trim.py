@@ -56,11 +56,12 @@ trim("transcript_loose.csv.gz", 10, "modal_body", "transcript_loose.csv")
 trim("transcript_tight.csv.gz", 20, "modal_body", "transcript_tight.csv")
 
 
-def first_steps(name, count, out, case="refnode_forces"):
-    """The negotiation, the start-up exchange and the first `steps` MBDyn steps whole (every
-    message both ways), then MBDyn's final 5: a shorter run a peer can replay step by step."""
+def first_steps(name, count, out, case="refnode_forces", startup=True):
+    """The negotiation, the start-up exchange (if the run has one) and the first `count` MBDyn
+    steps whole (every message both ways), then MBDyn's final 5: a shorter run a peer can replay
+    step by step."""
     head, groups = steps(rows_of(os.path.join(src, case, name)))
-    keep = head + [r for g in groups[:1 + count] for r in g] + groups[-1]
+    keep = head + [r for g in groups[:count + (1 if startup else 0)] for r in g] + groups[-1]
     raw = gzip.GzipFile(os.path.join(here, case, out), "wb", compresslevel=9, mtime=0)
     with io.TextIOWrapper(raw, newline="") as f:
         w = csv.DictWriter(f, fieldnames=["seq", "dir", "cmd", "values"], lineterminator="\n")
@@ -69,3 +70,4 @@ def first_steps(name, count, out, case="refnode_forces"):
 
 
 first_steps("transcript_tight.csv.gz", 50, "transcript_tight_first50.csv.gz")
+first_steps("transcript_tight.csv.gz", 100, "transcript_tight_first100.csv.gz", "modal_body", startup=False)

@@ -32,7 +32,7 @@ namespace dembridge {
 namespace {
 const char *kUsage = "fix mbdyn path FILE modal FEM-FILE [modes N [list m ...]] [origin LABEL] "
                      "[type all|rigid|modal] [match D] [mesh MESH-ID] [coupling loose|tight] [tolerance T] [max_iterations M] "
-                     "[startup_exchange yes|no] [connect_timeout S] [io_timeout S]";
+                     "[startup_exchange yes|no] [connect_timeout S] [io_timeout S] [resume yes|no]";
 }
 
 FixMBDynModal::FixMBDynModal(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
@@ -113,6 +113,10 @@ FixMBDynModal::FixMBDynModal(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
         error->all(FLERR, "fix mbdyn modal: startup_exchange: expected yes or no, got '{}'", w);
       startup_exchange_ = w == "yes";
       tight_keyword = k;
+    } else if (k == "resume") {
+      const std::string w = value("yes or no");
+      if (w != "yes" && w != "no") error->all(FLERR, "fix mbdyn modal: resume: expected yes or no, got '{}'", w);
+      resume_ = w == "yes";
     } else if (k == "connect_timeout") {
       connect_timeout_ = number_of("connect_timeout", value("seconds"), "seconds");
     } else if (k == "io_timeout") {
@@ -135,17 +139,41 @@ FixMBDynModal::FixMBDynModal(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg,
   size_vector = 6 + static_cast<int>(modes);
   extvector = 0;
   global_freq = 1;
+  restart_global = 1;
   kin_.q.assign(modes, 0.0);
   kin_.qdot.assign(modes, 0.0);
   last_.p.assign(modes, 0.0);
 }
 
-FixMBDynModal::~FixMBDynModal() = default;
+FixMBDynModal::~FixMBDynModal() { stop_peer(); }
+
+// Leaves MBDyn in a clean state, as fix mbdyn does: its next message (a step LAMMPS will not
+// run) is answered with 5, so it ends as asked by its peer. Bounded by io_timeout; nothing after an error.
+void FixMBDynModal::stop_peer()
+{
+  if (comm->me != 0 || !transport_ || ended_ || failed_) return;
+  try {
+    if (!first_is_step1_) {  // else that message was received and is not answered yet
+      std::uint8_t c = 0;
+      transport_->read_exact(&c, 1, io_timeout_, "MBDyn's next command");
+      if (c == 5) return;
+      std::vector<unsigned char> payload(config_.kinematics_payload_bytes());
+      transport_->read_exact(payload.data(), payload.size(), io_timeout_, "MBDyn's next kinematics");
+    }
+    const std::uint8_t five = 5;
+    transport_->write_all(&five, 1, io_timeout_, "the end of the coupling (5)");
+  } catch (const std::exception &) {
+  }
+}
 
 // PRE_EXCHANGE only for setup_pre_exchange: the t0 pose is set before the set-up's forces
 int FixMBDynModal::setmask() { return FixConst::PRE_EXCHANGE | FixConst::POST_INTEGRATE | FixConst::POST_FORCE; }
 
-void FixMBDynModal::fail(const std::string &why) { error->all(FLERR, "fix mbdyn modal: {}", why); }
+void FixMBDynModal::fail(const std::string &why)
+{
+  failed_ = true;
+  error->all(FLERR, "fix mbdyn modal: {}", why);
+}
 
 // Only rank 0 talks to MBDyn: its error text (empty: none) reaches every rank, which all stop.
 void FixMBDynModal::fail_if_rank0_failed(std::string err)
@@ -364,6 +392,7 @@ void FixMBDynModal::answer(bool converged)
 
 void FixMBDynModal::setup_pre_exchange()
 {
+  if (restored_) resume_coupling();  // the first run after read_restart
   if (bound_ || ended_) return;
   if (!config_.has_rigid()) bind_atoms();  // the pose is the FEM frame: map before connecting
   if (!receive()) {
@@ -379,8 +408,9 @@ void FixMBDynModal::setup_pre_exchange()
 
 void FixMBDynModal::setup(int)
 {
-  if (ended_ || messages_ != 1 || first_is_step1_) return;
+  if (ended_ || t0_answered_ || messages_ != 1 || first_is_step1_) return;
   answer(true);  // the t0 exchange feeds MBDyn's initial derivatives (6 also in tight coupling)
+  t0_answered_ = true;
 }
 
 // The largest change of any value of the message (x, R, v, omega, q, qdot) from a to b.

@@ -12,6 +12,7 @@
 #include "file_session.h"
 #include "nodal_config.h"
 #include "peer_session.h"
+#include "restart_doubles.h"
 
 #include <mpi.h>
 
@@ -28,6 +29,7 @@ namespace {
 
 constexpr double kMagic = 25052026.0;  // marks fix mbdyn's record
 constexpr double kVersion = 1.0;
+constexpr double kModalMagic = 25122026.0;  // fix mbdyn ... modal's record (fix_mbdyn_modal_restart.cpp)
 
 // What each point is, as the restart file records it (compared with the command's entries).
 int kind_of(bool is_atom, bool is_mesh, bool is_vertex, bool is_reference)
@@ -50,45 +52,18 @@ const char *kind_name(int kind)
   return "an unknown entry";
 }
 
-// Doubles in, doubles out; every integer stored here is far below 2^53.
-class Record {
+// The generic record with fix mbdyn's poses.
+class Record : public RestartDoubles {
  public:
-  explicit Record(std::vector<double> &out) : out_(&out) {}
-  Record(const double *in, std::size_t n) : in_(in), n_(n) {}
-
-  void put(double v) { out_->push_back(v); }
-  void put(const double *v, std::size_t n) { out_->insert(out_->end(), v, v + n); }
+  using RestartDoubles::RestartDoubles;
+  using RestartDoubles::get;
+  using RestartDoubles::put;
   void put_pose(const FixMBDyn::Pose &p)
   {
     put(p.x.data(), 3);
     put(p.v.data(), 3);
     put(p.w.data(), 3);
     put(p.R.data(), 9);
-  }
-  void put_vector(const std::vector<double> &v)
-  {
-    put(static_cast<double>(v.size()));
-    put(v.data(), v.size());
-  }
-  void put_text(const std::string &s)
-  {
-    put(static_cast<double>(s.size()));
-    for (unsigned char c : s) put(c);
-  }
-
-  bool ok() const { return ok_; }
-  double get()
-  {
-    if (pos_ >= n_) {
-      ok_ = false;
-      return 0.0;
-    }
-    return in_[pos_++];
-  }
-  long long get_int() { return std::llround(get()); }
-  void get(double *v, std::size_t n)
-  {
-    for (std::size_t i = 0; i < n; ++i) v[i] = get();
   }
   void get_pose(FixMBDyn::Pose &p)
   {
@@ -97,29 +72,6 @@ class Record {
     get(p.w.data(), 3);
     get(p.R.data(), 9);
   }
-  void get_vector(std::vector<double> &v)
-  {
-    const long long n = get_int();
-    if (n < 0 || static_cast<std::size_t>(n) > n_ - pos_) {
-      ok_ = false;
-      return;
-    }
-    v.resize(static_cast<std::size_t>(n));
-    get(v.data(), v.size());
-  }
-  std::string get_text()
-  {
-    const long long n = get_int();
-    std::string s;
-    for (long long i = 0; i < n && ok_; ++i) s.push_back(static_cast<char>(get_int()));
-    return s;
-  }
-
- private:
-  std::vector<double> *out_ = nullptr;
-  const double *in_ = nullptr;
-  std::size_t n_ = 0, pos_ = 0;
-  bool ok_ = true;
 };
 
 }  // namespace
@@ -196,6 +148,9 @@ void FixMBDyn::restart(char *raw)
   // LAMMPS hands the record without its length: its first double is the count of doubles.
   double first[8];
   std::memcpy(first, raw, sizeof(first));
+  if (first[1] == kModalMagic)
+    error->all(FLERR, prefix + "the restart file's record of this fix ID was written by fix mbdyn ... modal; this "
+                               "command has no 'modal FEM-FILE'");
   if (first[1] != kMagic || first[2] != kVersion || !(first[0] >= 8 && first[0] < 1e12))
     error->all(FLERR, prefix + "the restart file's record of this fix ID is not one of this fix mbdyn version");
   std::vector<double> in(static_cast<std::size_t>(first[0]));

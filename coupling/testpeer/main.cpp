@@ -52,7 +52,8 @@ const char* kUsage =
     "  --modal-mass m1,...,mM --modal-stiffness k1,... --modal-damping c1,... [--modal-q0 q1,...]\n"
     "                           MBDyn's `external modal, type, modal` on a clamped modal node instead:\n"
     "                           M q'' + C q' + K q = p per mode (--path, --steps, --dt, --trajectory:\n"
-    "                           t, then q, q', q'', p per mode)\n"
+    "                           t, then q, q', q'', p per mode; --coupling loose|tight, --loads-log: index,\n"
+    "                           command, p; --max-iterations; --save-state, --resume)\n"
     "  --reference-body m,J,x,y,z,vx,vy,vz,wx,wy,wz  --point-body m,J,x,...,wz (repeat per point)\n"
     "  [--reference-label L (10)] [--point-labels l1,l2,...]\n"
     "                           `external structural` with `reference node` on free rigid bodies instead\n"
@@ -125,7 +126,13 @@ int run_modal(const PeerSetup& s, ModalPeerSetup m, const std::string& trajector
   for (double mass : m.mass)
     if (!(mass > 0)) usage_error("--modal-mass expects positive modal masses");
   if (s.place.unix_path.empty()) usage_error("the modal peer needs --path");
+  if (s.coupling == CouplingMode::None) usage_error("the modal body is loose or tight");
   m.place = s.place;
+  m.tight = s.coupling == CouplingMode::Tight;
+  m.max_iterations = s.max_iterations;
+  m.save_state = s.save_state;
+  m.resume_state = s.resume_state;
+  m.loads_log = s.loads_log;
   m.steps = s.steps;
   m.dt = s.dt;
   m.accept_timeout_s = s.accept_timeout_s;
@@ -376,9 +383,10 @@ int main(int argc, char** argv) {
   const bool files = !s.files.in_path.empty() || !s.files.out_path.empty();
   const bool modal_body = !modal.mass.empty() || !modal.stiffness.empty();
   if ((!s.resume_state.empty() || !s.save_state.empty()) &&
-      (files || modal_body || !modal_fem.empty() || have_reference_body || !free_bodies.points.empty() ||
+      (files || !modal_fem.empty() || have_reference_body || !free_bodies.points.empty() ||
        s.coupling == CouplingMode::None))
-    usage_error("--save-state and --resume are for the oscillator nodes over the socket, coupling loose or tight");
+    usage_error("--save-state and --resume are for the oscillator nodes or the --modal-mass body over the socket, "
+                "coupling loose or tight");
   if (modal_fem.empty() && (!modal_origin.empty() || !modal_node.empty() || !modal_initial.empty()))
     usage_error("--modal-origin, --modal-node and --modal-initial need --modal-fem");
   if (!modal_fem.empty()) {

@@ -5,7 +5,11 @@
 // Sequence as recorded (loose): 07|1|M from the peer, 08; 6|q0,q'0 read by the initial derivatives
 // (q''0 from its answer); at every step 6|q,q' of the last converged step (MBDyn sends the modal
 // joint's states before its predictor updates them), the answer p[M] frozen for the step; 5 after
-// the last step. Independent of coupling/protocol.
+// the last step. Tight (`tight`): the t0 exchange with command 2, then per step iterates 2|q,q',
+// each solved by crank nicolson with the last loads answered (the first with the previous step's),
+// until the peer answers 6; the step is then solved with those loads. --save-state/--resume keep
+// the converged state of the last step solved (text, 17 digits), so a resumed run continues with
+// the next step bit for bit. Independent of coupling/protocol.
 #pragma once
 
 #include <functional>
@@ -20,6 +24,11 @@ struct ModalPeerSetup {
   SocketPlace place;
   std::vector<double> mass, damping, stiffness;  // one per mode (the FEM file's diagonal)
   std::vector<double> q0, qdot0;                 // initial modal coordinates (default 0)
+  bool tight = false;
+  int max_iterations = 50;       // tight: exchanges per step before giving up (status 1)
+  std::string save_state;        // at the end: the state after the last step solved with the peer's loads
+  std::string resume_state;      // continue from such a state: no t0 exchange, the next step first
+  std::string loads_log;         // one line per answer: index, command, p
   int steps = 10;
   double dt = 1e-3;
   double accept_timeout_s = 30, io_timeout_s = 30;

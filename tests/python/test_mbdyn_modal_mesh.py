@@ -56,7 +56,21 @@ def write_stl(path):
     open(path, "w").write("\n".join(out + ["endsolid plate"]) + "\n")
 
 
-def deck(sock, d, extra="", steps=STEPS):
+def model(sock, d, extra=""):
+    """The contact law, the plate, its wall and fix mbdyn ... modal: what a deck after read_restart defines again."""
+    return f"""{HOOKE_ONE_TYPE}
+neighbor 0.005 bin
+timestep {DT}
+fix plate all mesh/surface/stress file {d}/plate.stl type 1
+fix walls all wall/gran model hooke tangential history mesh n_meshes 1 meshes plate
+fix I all nve/sphere
+fix M all mbdyn path {sock} modal {d}/plate.fem modes 2 type modal mesh plate connect_timeout 60 io_timeout 60 {extra}
+fix g all gravity {G} vector 0 0 -1
+"""
+
+
+def spheres_deck():
+    """The box and the four spheres, 1 mm above their faces."""
     spheres = "\n".join(f"create_atoms 1 single {(i + 2 / 3) * H!r} {(j - 1 + 1 / 3) * H!r} {R + 1e-3!r} units box"
                         for i, j in CELLS)
     return f"""{GRAN_HEAD}
@@ -65,26 +79,25 @@ create_box 1 box
 {spheres}
 set type 1 diameter {2 * R}
 set type 1 density {RHO}
-{HOOKE_ONE_TYPE}
-neighbor 0.005 bin
-timestep {DT}
-fix plate all mesh/surface/stress file {d}/plate.stl type 1
-fix walls all wall/gran model hooke tangential history mesh n_meshes 1 meshes plate
-fix I all nve/sphere
-fix M all mbdyn path {sock} modal {d}/plate.fem modes 2 type modal mesh plate connect_timeout 60 io_timeout 60 {extra}
-fix g all gravity {G} vector 0 0 -1
-fix D all mesh/dump 10 stl {d}/mesh*.stl plate
+"""
+
+
+def deck(sock, d, extra="", steps=STEPS):
+    return f"""{spheres_deck()}{model(sock, d, extra)}fix D all mesh/dump 10 stl {d}/mesh*.stl plate
 dump A all custom 10 {d}/atoms.*.dump id radius mass x y z fx fy fz
 dump_modify A format float %.17g
 run {steps}
 """
 
 
+def peer_args(sock, d, steps=STEPS, trajectory="modes.txt"):
+    return [PEER, "--path", sock, "--steps", str(steps), "--dt", repr(DT), "--modal-mass", "1,1",
+            "--modal-stiffness", "3000,3000", "--modal-damping", "20,20", "--trajectory", f"{d}/{trajectory}",
+            "--accept-timeout", "20", "--io-timeout", "60"]
+
+
 def peer(sock, d, steps=STEPS):
-    return subprocess.Popen([PEER, "--path", sock, "--steps", str(steps), "--dt", repr(DT), "--modal-mass", "1,1",
-                             "--modal-stiffness", "3000,3000", "--modal-damping", "20,20", "--trajectory",
-                             f"{d}/modes.txt", "--accept-timeout", "20", "--io-timeout", "60"],
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    return subprocess.Popen(peer_args(sock, d, steps), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
 
 
 def normal(tri):

@@ -106,9 +106,12 @@ def test_modal_mesh_restart_equals_the_split_run_bitwise(workdir, coupling, npro
 def test_modal_mesh_restart_bad_input(workdir):  # noqa: F811
     wd = workdir
     prepare(wd)
-    restart, state = f"{wd}/bad.restart", f"{wd}/bad.state"
-    run1, _, out1, _, _ = coupled(wd, lambda s: fresh(s, wd, "bad1", 3, "", write=restart), "bad1", "loose", save=state)
-    assert run1.returncode == 0, run1.stdout[-3000:]
+    restart = f"{wd}/rloose1.restart"  # the loose split run's, if it ran
+    if not os.path.exists(restart):
+        restart = f"{wd}/bad.restart"
+        run1, _, _, _, _ = coupled(wd, lambda s: fresh(s, wd, "bad1", FIRST, "", write=restart), "bad1", "loose",
+                                   save=f"{wd}/bad.state")
+        assert run1.returncode == 0, run1.stdout[-3000:]
     sock = os.path.join(wd, "none.sock")
     deck = restarted(sock, wd, "bad", 3, restart, "")
     cases = [
@@ -126,8 +129,9 @@ def test_modal_mesh_restart_bad_input(workdir):  # noqa: F811
         run = lammps(wd, text, "bad")
         err = error_line(run.stdout)
         assert run.returncode != 0 and expected in err, (expected, run.stdout[-2000:])
-    # resume no: the restart file's coupling is ignored, a new one starts (the peer's t0 message)
-    run, rc, out, traj, _ = coupled(wd, lambda s: restarted(s, wd, "new", 3, restart, "resume no match 1e-3"), "new",
+    # resume no: the restart file's coupling is ignored, a new one starts (the peer's t0 message: the
+    # plate at rest, bound again within match of the restored mesh, bent by the spheres)
+    run, rc, out, traj, _ = coupled(wd, lambda s: restarted(s, wd, "new", 3, restart, "resume no match 0.01"), "new",
                                     "loose")
     assert run.returncode == 0, run.stdout[-2000:]
     assert "resume no: the coupling state of the restart file is ignored" in run.stdout

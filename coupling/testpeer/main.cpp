@@ -17,6 +17,7 @@
 #include "free_modal_body_peer.h"
 #include "modal_fem_file.h"
 #include "modal_peer.h"
+#include "mapping_peer.h"
 
 using namespace dembridge::mbdyn::testpeer;
 
@@ -68,6 +69,13 @@ const char* kUsage =
     "                           node starting at x with R = I, v, w (with --path, --coupling, --steps, --dt,\n"
     "                           --tolerance, --max-iterations, --trajectory: t, x R(row by row) v w, then\n"
     "                           q q' q'' per mode)\n"
+    "  --cantilever n,L,m,J,EA,GA,GJ,EI --beam-offset ox,oy,oz (repeat) --mapping FILE --mapped-points M\n"
+    "                           `external structural mapping` on a cantilever of n beam2 elements along x\n"
+    "                           (length L, node 0 static and clamped at the origin, a body m, diag(J) on\n"
+    "                           every other node, `linear elastic generic, diag, EA, GA, GA, GJ, EI, EI`),\n"
+    "                           every node carrying the offset points, mapped by MBDyn's sparse mapping\n"
+    "                           file to M points (with --path, --steps, --dt, --gravity, --coupling,\n"
+    "                           --tolerance, --trajectory: t, then per node x R(row by row) v w)\n"
     "  --kinematics-log FILE    one line per kinematics message: index, command, then per point\n"
     "                           x(3) R(9, row by row) v(3) w(3), global frame\n"
     "  --loads-log FILE         one line per loads answer: index, command, then per point the force\n"
@@ -257,6 +265,51 @@ int run_free_modal(const PeerSetup& s, FreeModalBodyPeerSetup f, const std::stri
   return out.exit_status;
 }
 
+int run_mapping(const PeerSetup& s, const std::vector<double>& cantilever, MappingPeerSetup m,
+                const std::string& mapping_file, const std::string& trajectory_file) {
+  if (cantilever.size() != 8 || cantilever[0] < 1 || cantilever[0] != std::floor(cantilever[0]) ||
+      cantilever[0] > 1000 || !(cantilever[1] > 0) || !(cantilever[2] > 0) || !(cantilever[3] > 0))
+    usage_error("--cantilever expects n,L,m,J,EA,GA,GJ,EI with n a whole number of elements, L, m, J > 0");
+  if (m.offsets.empty()) usage_error("--cantilever needs at least one --beam-offset");
+  if (mapping_file.empty() || m.mapped_points < 1) usage_error("--cantilever needs --mapping FILE and --mapped-points M");
+  if (s.place.unix_path.empty()) usage_error("the mapping peer needs --path");
+  if (s.coupling == CouplingMode::None) usage_error("the mapping peer is loose or tight");
+  const int n = static_cast<int>(cantilever[0]);
+  for (int k = 0; k <= n; ++k) m.model.node_x.push_back(V3{cantilever[1] * k / n, 0, 0});
+  m.model.mass = cantilever[2];
+  m.model.inertia = cantilever[3];
+  m.model.stiffness = {cantilever[4], cantilever[5], cantilever[5], cantilever[6], cantilever[7], cantilever[7]};
+  m.model.gravity = s.model.gravity;
+  m.model.derivatives_coefficient = s.model.derivatives_coefficient;
+  m.model.derivatives_tolerance = s.derivatives_tolerance;
+  m.model.tolerance = s.tolerance;
+  try {
+    m.mapping = read_sparse_mapping(mapping_file, 3 * m.mapped_points,
+                                    3 * (n + 1) * static_cast<int>(m.offsets.size()));
+  } catch (const std::exception& e) {
+    usage_error(std::string("--mapping: ") + e.what());
+  }
+  m.place = s.place;
+  m.tight = s.coupling == CouplingMode::Tight;
+  m.tolerance = s.tolerance;
+  m.max_iterations = s.max_iterations;
+  m.derivatives_max_iterations = s.derivatives_max_iterations;
+  m.steps = s.steps;
+  m.dt = s.dt;
+  m.accept_timeout_s = s.accept_timeout_s;
+  m.io_timeout_s = s.io_timeout_s;
+  m.trajectory = trajectory_file;
+  const std::string path = m.place.unix_path;
+  m.on_listening = [path]() {
+    std::cout << "mbdyn_testpeer: listening on unix socket " << path << " (external structural mapping, cantilever)"
+              << std::endl;
+  };
+  const MappingPeerOutcome out = run_mapping_test_peer(m);
+  std::cout << "mbdyn_testpeer: exit " << out.exit_status << ": " << out.log << " (" << out.kinematics_sent
+            << " kinematics messages)" << std::endl;
+  return out.exit_status;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -274,6 +327,9 @@ int main(int argc, char** argv) {
   FreeModalBodyPeerSetup free_modal;
   std::string modal_fem, modal_origin;
   std::vector<double> modal_node, modal_initial;
+  std::vector<double> cantilever;
+  MappingPeerSetup mapping;
+  std::string mapping_file;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -370,6 +426,10 @@ int main(int argc, char** argv) {
       free_bodies.reference_label = static_cast<std::uint32_t>(parse_integer(a, value(), 0, 4294967295L));
     else if (a == "--point-labels") point_labels = parse_list(a, value());
     else if (a == "--loads-log") s.loads_log = value();
+    else if (a == "--cantilever") cantilever = parse_list(a, value());
+    else if (a == "--beam-offset") mapping.offsets.push_back(parse_v3(value()));
+    else if (a == "--mapping") mapping_file = value();
+    else if (a == "--mapped-points") mapping.mapped_points = static_cast<int>(parse_integer(a, value(), 1, 1000000));
     else if (a == "--save-state") s.save_state = value();
     else if (a == "--resume") s.resume_state = value();
     else if (a == "--file-in") s.files.in_path = value();
@@ -383,7 +443,7 @@ int main(int argc, char** argv) {
   const bool files = !s.files.in_path.empty() || !s.files.out_path.empty();
   const bool modal_body = !modal.mass.empty() || !modal.stiffness.empty();
   if ((!s.resume_state.empty() || !s.save_state.empty()) &&
-      (files || !modal_fem.empty() || have_reference_body || !free_bodies.points.empty() ||
+      (files || !modal_fem.empty() || !cantilever.empty() || have_reference_body || !free_bodies.points.empty() ||
        s.coupling == CouplingMode::None))
     usage_error("--save-state and --resume are for the oscillator nodes or the --modal-mass body over the socket, "
                 "coupling loose or tight");
@@ -395,6 +455,10 @@ int main(int argc, char** argv) {
     return run_free_modal(s, free_modal, modal_fem, modal_origin, modal_node, modal_initial, trajectory_file);
   }
   if (modal_body) return run_modal(s, modal, trajectory_file);
+  if (!cantilever.empty() || !mapping.offsets.empty() || !mapping_file.empty()) {
+    if (cantilever.empty()) usage_error("--beam-offset and --mapping need --cantilever");
+    return run_mapping(s, cantilever, mapping, mapping_file, trajectory_file);
+  }
   if (have_reference_body || !free_bodies.points.empty()) {
     if (!have_reference_body) usage_error("--point-body needs --reference-body");
     return run_free_bodies(s, free_bodies, point_labels, trajectory_file);

@@ -71,3 +71,4 @@ def first_steps(name, count, out, case="refnode_forces", startup=True):
 
 first_steps("transcript_tight.csv.gz", 50, "transcript_tight_first50.csv.gz")
 first_steps("transcript_tight.csv.gz", 100, "transcript_tight_first100.csv.gz", "modal_body", startup=False)
+first_steps("transcript_tight.csv.gz", 100, "transcript_tight_first100.csv.gz", "mapping_beam")

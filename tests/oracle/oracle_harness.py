@@ -334,6 +334,16 @@ def _clean_env(extra: Optional[Dict[str, str]] = None, drop_ld: bool = True) -> 
     return env
 
 
+# /usr/bin/liggghts runs serial, as an Open MPI singleton: isolated (no orted daemon started) and with only the
+# "self" transport it starts in 0.2 s instead of 0.6 s; nothing else changes in a one-rank run.
+LIGGGHTS_SINGLETON = {"OMPI_MCA_ess_singleton_isolated": "1", "OMPI_MCA_btl": "self", "OMPI_MCA_pml": "ob1"}
+
+
+def liggghts_env() -> Dict[str, str]:
+    """The environment of a serial /usr/bin/liggghts run."""
+    return _clean_env(LIGGGHTS_SINGLETON)
+
+
 def _run(cmd: List[str], cwd: Path, screen: Path, timeout: float, env: Dict[str, str]):
     """Run cmd in its own process group, stdout+stderr to `screen`; kill the group on timeout."""
     t0 = time.monotonic()
@@ -413,7 +423,7 @@ def run_liggghts(case_dir_, workdir, deck_text: Optional[str] = None, use_stored
     # No environment variable is needed: run as root *without* mpirun, Open MPI 4.1 starts as a
     # singleton (OMPI_ALLOW_RUN_AS_ROOT is only checked by mpirun). Launcher variables of an
     # enclosing mpiexec are removed so that it cannot try to join a foreign job.
-    rc, wall = _run([str(exe), "-in", "in.liggghts"], wd, wd / "log.screen", timeout, _clean_env())
+    rc, wall = _run([str(exe), "-in", "in.liggghts"], wd, wd / "log.screen", timeout, liggghts_env())
     LAST_TIMINGS["liggghts"] = wall
     screen = (wd / "log.screen").read_text(errors="replace")
     errs = _error_lines(screen)

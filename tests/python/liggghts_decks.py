@@ -11,7 +11,7 @@ from pathlib import Path
 from dembridge import mpiexec
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "oracle"))
-from oracle_harness import _clean_env, liggghts_exe  # noqa: E402
+from oracle_harness import liggghts_env, liggghts_exe  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 DECKS = ROOT / "tests" / "data" / "liggghts_decks"
@@ -44,7 +44,7 @@ def run(cmd, cwd, timeout=300, stdin=None, env=None):
 
 def run_liggghts(deck, where):
     # stdbuf: an error->one message is lost otherwise (MPI_Abort before the buffer is flushed)
-    return run(["stdbuf", "-o0", str(liggghts_exe()), "-in", deck], copy_deck(deck, where), env=_clean_env())
+    return run(["stdbuf", "-o0", str(liggghts_exe()), "-in", deck], copy_deck(deck, where), env=liggghts_env())
 
 
 def launcher_env():

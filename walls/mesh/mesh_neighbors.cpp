@@ -60,7 +60,24 @@ void MeshNeighbors::build_bins(const TriangleMesh &m, double reach)
     b0 = std::clamp(int(std::floor((a - reach - lo_[d]) / h_)), 0, nb_[d] - 1);
     b1 = std::clamp(int(std::floor((b + reach - lo_[d]) / h_)), 0, nb_[d] - 1);
   };
+  // A bin of a triangle's grown box keeps it only if some point of the bin may pass in_reach: within
+  // the reach of its plane and of no edge's outer side by more than the reach (the linear bounds of
+  // the criterion over the bin's cube). The margin takes the rounding of these bounds, of in_reach
+  // and of bin_of; a test that cannot pass is all a dropped entry removes, so the lists stay the same.
+  double scale = 0.0;
+  for (int d = 0; d < 3; ++d) scale = std::max(scale, std::max(std::fabs(lo[d]), std::fabs(hi[d])));
+  const double half = 0.5 * h, limit = reach + 1e-6 * h + 1e-12 * scale;
+  auto spread = [&](const Vec3 &u) { return half * (std::fabs(u[0]) + std::fabs(u[1]) + std::fabs(u[2])); };
+  double sp[4] = {0.0, 0.0, 0.0, 0.0};  // of the plane and the three edges: how far their distances vary over a bin
+  auto may_reach = [&](int t, int i, int j, int k) {
+    const Vec3 c{lo_[0] + (i + 0.5) * h_, lo_[1] + (j + 0.5) * h_, lo_[2] + (k + 0.5) * h_};
+    if (std::fabs(dot(sub(c, m.node(t, 0)), m.normal(t))) - sp[0] > limit) return false;
+    for (int e = 0; e < 3; ++e)
+      if (dot(sub(c, m.node(t, e)), m.edge_norm(t, e)) - sp[1 + e] > limit) return false;
+    return true;
+  };
   bin_first_.assign(nbin + 1, 0);
+  std::vector<unsigned char> keep;  // may_reach of each bin entry, in the order of the first pass
   for (int pass = 0; pass < 2; ++pass) {
     std::vector<int> fill;
     if (pass == 1) {
@@ -68,12 +85,19 @@ void MeshNeighbors::build_bins(const TriangleMesh &m, double reach)
       bin_tri_.assign(bin_first_[nbin], 0);
       fill.assign(bin_first_.begin(), bin_first_.end() - 1);
     }
+    std::size_t entry = 0;
     for (int t = 0; t < n; ++t) {
       int r0[3], r1[3];
       for (int d = 0; d < 3; ++d) range(t, d, r0[d], r1[d]);
+      if (pass == 0) {
+        sp[0] = spread(m.normal(t));
+        for (int e = 0; e < 3; ++e) sp[1 + e] = spread(m.edge_norm(t, e));
+      }
       for (int i = r0[0]; i <= r1[0]; ++i)
         for (int j = r0[1]; j <= r1[1]; ++j)
-          for (int k = r0[2]; k <= r1[2]; ++k) {
+          for (int k = r0[2]; k <= r1[2]; ++k, ++entry) {
+            if (pass == 0) keep.push_back(may_reach(t, i, j, k));
+            if (!keep[entry]) continue;
             const long b = (long(i) * nb_[1] + j) * nb_[2] + k;
             if (pass == 0) ++bin_first_[b + 1];
             else bin_tri_[fill[b]++] = t;
@@ -86,7 +110,7 @@ long MeshNeighbors::bin_of(const Vec3 &p) const
 {
   int c[3];
   for (int d = 0; d < 3; ++d) {
-    const double f = std::floor((p[d] - lo_[d]) / h_);
+    const double f = (p[d] - lo_[d]) / h_;  // int(f) is floor(f) once f >= 0 (no floor call per particle)
     if (!(f >= 0.0) || f >= nb_[d]) return -1;
     c[d] = int(f);
   }

@@ -367,6 +367,10 @@ void FixMeshSurface::fit_to_reach(double s)
 {
   mesh::Vec3 mlo, mhi;
   mesh_->bounding_box(mlo, mhi);
+  // a part that spans the whole mesh's box (one rank) holds every triangle any atom can need
+  bool spans = split_;
+  for (int d = 0; d < 3; ++d) spans = spans && kept_lo_[d] <= mlo[d] && kept_hi_[d] >= mhi[d];
+  if (spans) return;
   mesh::Vec3 lo{domain->sublo[0], domain->sublo[1], domain->sublo[2]};
   mesh::Vec3 hi{domain->subhi[0], domain->subhi[1], domain->subhi[2]};
   mesh::Vec3 need_lo = mhi, need_hi = mlo;  // empty

@@ -193,3 +193,81 @@ TEST(MeshNeighbors, KeptPartFindsTheWholeMeshCandidates)
 
 }  // namespace
 }  // namespace dembridge::mesh::test
+
+namespace dembridge::mesh::test {
+namespace {
+
+// the benchmark's hopper: a cone (r 0.012 at z 0 to 0.06 at z 0.06) under a cylinder to z 0.1, 64 triangles
+TriangleMesh hopper()
+{
+  std::vector<TriangleNodes> tris;
+  const int nseg = 32;
+  auto ring = [&](double r, double z, int k) {
+    const double a = 2.0 * 3.14159265358979323846 * k / nseg;
+    return Vec3{r * std::cos(a), r * std::sin(a), z};
+  };
+  const double rz[3][2] = {{0.012, 0.0}, {0.06, 0.06}, {0.06, 0.1}};
+  for (int part = 0; part < 2; ++part)
+    for (int k = 0; k < nseg; ++k) {
+      const Vec3 p0 = ring(rz[part][0], rz[part][1], k), p1 = ring(rz[part][0], rz[part][1], k + 1);
+      const Vec3 q0 = ring(rz[part + 1][0], rz[part + 1][1], k), q1 = ring(rz[part + 1][0], rz[part + 1][1], k + 1);
+      tris.push_back({p0, p1, q1});
+      tris.push_back({p0, q1, q0});
+    }
+  return TriangleMesh(tris);
+}
+
+// The bins keep a triangle only where the criterion may pass: the lists are still those of testing
+// every triangle, also for particles at the criterion's bounds (a plane or edge distance of the reach,
+// give or take an ulp), and far fewer triangles are tested than the bins of the grown boxes hold.
+TEST(MeshNeighbors, HopperCandidatesAtTheCriterionBoundsAreThoseOfEveryTriangle)
+{
+  const TriangleMesh m = hopper();
+  const double r = 0.00125, s = 0.00025, reach = r + s;
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<std::array<double, 3>> pos;
+  for (int n = 0; n < 6000; ++n)  // inside and around the hopper
+    pos.push_back({0.13 * u(gen) - 0.065, 0.13 * u(gen) - 0.065, 0.11 * u(gen) - 0.005});
+  for (int n = 0; n < 6000; ++n) {  // at the plane or an edge bound of a triangle
+    const int t = int(u(gen) * m.size());
+    double a = u(gen), b = u(gen);
+    if (a + b > 1.0) a = 1.0 - a, b = 1.0 - b;
+    const Vec3 on = add(m.node(t, 0), add(scale(sub(m.node(t, 1), m.node(t, 0)), a), scale(sub(m.node(t, 2), m.node(t, 0)), b)));
+    const int bound = n % 4;  // 0: plane, 1-3: beyond edge k (in the plane)
+    const Vec3 dir = bound == 0 ? m.normal(t) : m.edge_norm(t, bound - 1);
+    const double along = bound == 0 ? reach : reach + dot(sub(m.node(t, bound - 1), on), dir);
+    const double f[3] = {1.0 - 1e-15, 1.0, 1.0 + 1e-15};
+    const double sign = (bound == 0 && n % 8 == 4) ? -1.0 : 1.0;
+    const Vec3 q = add(on, scale(dir, sign * along * f[n % 3]));
+    pos.push_back({q[0], q[1], q[2]});
+  }
+  std::vector<const double *> x;
+  for (auto &q : pos) x.push_back(q.data());
+  std::vector<double> radius(pos.size(), r);
+  MeshNeighbors nb;
+  nb.build(m, int(pos.size()), x.data(), radius.data(), nullptr, s);
+  std::size_t found = 0, grown_box = 0;
+  for (int i = 0; i < int(pos.size()); ++i) {
+    const Vec3 p{pos[i][0], pos[i][1], pos[i][2]};
+    std::vector<int> brute;
+    for (int t = 0; t < m.size(); ++t) {
+      if (MeshNeighbors::in_reach(m, t, p, reach)) brute.push_back(t);
+      bool in_box = true;
+      for (int d = 0; d < 3; ++d) {
+        const double lo = std::min({m.node(t, 0)[d], m.node(t, 1)[d], m.node(t, 2)[d]}) - reach;
+        const double hi = std::max({m.node(t, 0)[d], m.node(t, 1)[d], m.node(t, 2)[d]}) + reach;
+        in_box = in_box && p[d] >= lo && p[d] <= hi;
+      }
+      grown_box += in_box;
+    }
+    ASSERT_EQ(std::vector<int>(nb.begin(i), nb.begin(i) + nb.count(i)), brute) << "particle " << i;
+    found += brute.size();
+  }
+  EXPECT_GT(found, 6000u);
+  std::printf("triangles tested: %zu, in a grown box %zu, candidates %zu\n", nb.tests_performed(), grown_box, found);
+  EXPECT_LT(double(nb.tests_performed()), 0.5 * double(grown_box));
+}
+
+}  // namespace
+}  // namespace dembridge::mesh::test

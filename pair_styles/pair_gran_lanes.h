@@ -85,14 +85,27 @@ template <class Fallback> struct LaneContacts {
     [[gnu::always_inline, gnu::target("avx2")]] Lanes4 operator()(const double *field) const { return _mm256_broadcast_sd(field); }
   };
 
+  // What the batches of one loop share, set up once per loop (pair_loop): the type pair's coefficients as
+  // four lanes, broadcast from the table when it is uniform, and the set the gathers fill. Per batch,
+  // value-initialising both (17 fields of 4 lanes each) cost 2.2 Ir per atom-step on the chute.
+  template <class Kernel> struct State {
+    typename Fallback::template State<Kernel> fallback;
+    PairCoeffsT<Lanes4> broadcast, gathered;
+    [[gnu::target("avx2")]] explicit State(const PairLoopData &d) : fallback(d)
+    {
+      if constexpr (Kernel::kLanes)
+        if (d.uniform_coeffs) load_coeffs<Kernel::kCoeffFields>(broadcast, d.coeffs[d.coeff_stride + 1], Broadcast{});
+    }
+  };
+
   template <class Kernel, class Sink>
   // out of line: inlined, its register demand made the per-atom scan loop spill (about 18 Ir per atom-step)
-  [[gnu::noinline, gnu::target("avx2")]] static PairLoopError run(const PairLoopData &d, Batch &b, Sink &sink)
+  [[gnu::noinline, gnu::target("avx2")]] static PairLoopError run(const PairLoopData &d, Batch &b, Sink &sink, State<Kernel> &state)
   {
     if constexpr (!Kernel::kLanes) {
-      return Fallback::template run<Kernel>(d, b, sink);
+      return Fallback::template run<Kernel>(d, b, sink, state.fallback);
     } else {
-      if (!Kernel::lanes_ok(d)) return Fallback::template run<Kernel>(d, b, sink);
+      if (!Kernel::lanes_ok(d)) return Fallback::template run<Kernel>(d, b, sink, state.fallback);
       const int n = b.n, n4 = (n + 3) & ~3;
       b.n = 0;
       for (int c = n; c < n4; c++) {  // padding lanes: copies of the last pair (results unused)
@@ -112,11 +125,10 @@ template <class Fallback> struct LaneContacts {
       static_assert(sizeof(PairCoeffs) % sizeof(double) == 0);
       const __m128i coeff_stride = _mm_set1_epi32(d.coeff_stride), coeff_doubles = _mm_set1_epi32(int(sizeof(PairCoeffs) / sizeof(double)));
       // One type pair's coefficients for every pair (one atom type, or equal materials): broadcast
-      // once per batch instead of gathered per four pairs; the law reads them from memory.
-      PairCoeffsT<Lanes4> broadcast, gathered;
+      // once per loop (State) instead of gathered per four pairs; the law reads them from memory.
       const bool uniform = d.uniform_coeffs;
-      if (uniform) load_coeffs<Kernel::kCoeffFields>(broadcast, d.coeffs[d.coeff_stride + 1], Broadcast{});
-      const PairCoeffsT<Lanes4> &pc = uniform ? broadcast : gathered;
+      PairCoeffsT<Lanes4> &gathered = state.gathered;
+      const PairCoeffsT<Lanes4> &pc = uniform ? state.broadcast : gathered;
       for (int c = 0; c < n4; c += 4) {
         // Two groups ahead, the rows that miss the cache most (perf, chute): the pair's history slot,
         // the neighbour's velocity, spin and mass, and the neighbour's force and torque rows of the sink
@@ -172,13 +184,16 @@ template <class Fallback> struct LaneContacts {
           const __m128i pair_type = _mm_add_epi32(_mm_mullo_epi32(gather(d.type, iv), coeff_stride), gather(d.type, jv));
           load_coeffs<Kernel::kCoeffFields>(gathered, *d.coeffs, GatherAt{_mm_mullo_epi32(pair_type, coeff_doubles)});
         }
-        Lanes4 hist[Kernel::kLaneHistory > 0 ? Kernel::kLaneHistory : Kernel::kLaneHistory == 0 ? 1 : kLaneMaxHistory] = {};
+        // (not value-initialised: zeroing all kLaneMaxHistory lanes per four pairs cost 3 Ir per atom-step)
+        Lanes4 hist[Kernel::kLaneHistory > 0 ? Kernel::kLaneHistory : Kernel::kLaneHistory == 0 ? 1 : kLaneMaxHistory];
         if (with_history) {  // each pair's nv values in a row: rows of three, then single values
           const double *h0 = d.hist + b.slot[c] * d.nv, *h1 = d.hist + b.slot[c + 1] * d.nv, *h2 = d.hist + b.slot[c + 2] * d.nv,
                        *h3 = d.hist + b.slot[c + 3] * d.nv;
           int k = 0;
           for (; k + 3 <= nv; k += 3) load_rows3(h0 + k, h1 + k, h2 + k, h3 + k, hist[k], hist[k + 1], hist[k + 2]);
           for (; k < nv; k++) hist[k] = load_lanes(h0 + k, h1 + k, h2 + k, h3 + k);
+        } else {
+          for (Lanes4 &h : hist) h = Lanes4{};  // a model without history values (never read)
         }
         ContactResultT<Lanes4> o;
         Kernel::lanes(d, p, pc, hist, o);
@@ -193,12 +208,20 @@ template <class Fallback> struct LaneContacts {
         if (with_history)
           for (int k = 0; k < nv; k++) _mm256_store_pd(out[kHist + k] + c, hist[k]);
       }
-      for (int c = 0; c < n; c++) {
-        if (with_history) {
-          double *h = d.hist + b.slot[c] * d.nv;
+      // The history first, then the forces: in one loop, the flag's byte store (which may alias
+      // anything) made every pair reload the sink's pointers and d's fields.
+      if (with_history) {
+        double *const hist_values = d.hist;
+        TouchFlag *const touch = d.touch;
+        const std::int64_t stride = d.nv;
+        for (int c = 0; c < n; c++) {
+          const std::int64_t s = b.slot[c];
+          double *h = hist_values + s * stride;
           for (int k = 0; k < nv; k++) h[k] = out[kHist + k][c];
-          d.touch[b.slot[c]] = TouchFlag::Touching;
+          touch[s] = TouchFlag::Touching;
         }
+      }
+      for (int c = 0; c < n; c++) {
         ContactResult res;
         for (int k = 0; k < 3; k++) {
           res.F[k] = out[kF + k][c];

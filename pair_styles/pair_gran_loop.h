@@ -48,19 +48,35 @@ template <bool Hertz, bool History, bool LimitDamping> struct LammpsKernel {
   }
 };
 
-template <NormalModel Normal, TangentialModel Tangential> struct LiggghtsKernel {
+// Plain: no rolling and no cohesion (run_pair_loop checks), as compile-time constants: the law then has
+// no code for them (which made the four-lane law keep its values on the stack) and the history is the
+// shear alone, a constant 3 values (or none) that unrolls the lanes' history loops.
+template <NormalModel Normal, TangentialModel Tangential, bool Plain = false> struct LiggghtsKernel {
   static constexpr bool kHistory = true;  // rolling springs may need it whatever the tangential model
+  static constexpr int kPlainHistory = Tangential == TangentialModel::History ? 3 : 0;
+  [[gnu::always_inline]] static ContactConfig config(const PairLoopData &d)
+  {
+    ContactConfig cfg = d.law->config();
+    if constexpr (Plain) {
+      cfg.rolling = RollingModel::Off;
+      cfg.cohesion = CohesionModel::Off;
+    }
+    return cfg;
+  }
 #ifdef DEMBRIDGE_HAVE_LANE_CONTACTS
   static constexpr bool kLanes = true, kMasses = true;
-  static constexpr int kLaneHistory = -1;  // d.nv (tangential and rolling springs)
-  static bool lanes_ok(const PairLoopData &d) { return liggghts_laws_have_lanes(d.law->config()) && d.nv <= kLaneMaxHistory; }
+  static constexpr int kLaneHistory = Plain ? kPlainHistory : -1;  // -1: d.nv (tangential and rolling springs)
+  static bool lanes_ok(const PairLoopData &d)
+  {
+    return liggghts_laws_have_lanes(d.law->config()) && d.nv <= kLaneMaxHistory && (!Plain || !d.hist || d.nv == kPlainHistory);
+  }
   using LaneIn = PairLanes;
   static constexpr unsigned kCoeffFields = liggghts_coeff_fields(Normal);
   [[gnu::always_inline]] static void lanes(const PairLoopData &d, const LaneIn &p, const PairCoeffsT<Lanes4> &pc, Lanes4 *hist,
                                            ContactResultT<Lanes4> &out)
   {
-    liggghts_pair_law<Normal, Tangential>(d.law->config(), p.del, p.rsq, p.radi, p.radj, p.vi, p.vj, p.wi, p.wj, p.mi, p.mj, p.meff, pc,
-                                          hist, d.history_update, d.dt, out);
+    liggghts_pair_law<Normal, Tangential>(config(d), p.del, p.rsq, p.radi, p.radj, p.vi, p.vj, p.wi, p.wj, p.mi, p.mj, p.meff, pc, hist,
+                                          d.history_update, d.dt, out);
   }
 #else
   static constexpr bool kLanes = false;
@@ -68,14 +84,17 @@ template <NormalModel Normal, TangentialModel Tangential> struct LiggghtsKernel 
   [[gnu::always_inline]] static void touching(const PairLoopData &d, const SphereView &a, const SphereView &b, const double *del,
                                               double rsq, double meff, const PairCoeffs &pc, double *hist, ContactResult &out)
   {
-    liggghts_pair_touching<Normal, Tangential>(d.law->config(), a, b, del, rsq, meff, pc, hist, d.history_update, d.dt, out);
+    liggghts_pair_touching<Normal, Tangential>(config(d), a, b, del, rsq, meff, pc, hist, d.history_update, d.dt, out);
   }
 };
 
 // The contact law on the batch's pairs one at a time, in list order; empties the batch.
 struct ScalarContacts {
+  template <class Kernel> struct State {  // nothing shared between batches
+    explicit State(const PairLoopData &) {}
+  };
   template <class Kernel, class Sink>
-  [[gnu::always_inline]] static PairLoopError run(const PairLoopData &d, Batch &batch, Sink &sink)
+  [[gnu::always_inline]] static PairLoopError run(const PairLoopData &d, Batch &batch, Sink &sink, State<Kernel> &)
   {
     const double *x = d.x, *v = d.v, *omega = d.omega, *radius = d.radius, *rmass = d.rmass;
     const int *type = d.type, *mask = d.mask;
@@ -198,6 +217,8 @@ template <class Sink> PairLoopError run_pair_loop(const PairLoopData &d, int ii_
       case T::NoHistory: return pair_loop<LiggghtsKernel<kN, T::NoHistory>>(d, ii_begin, ii_end, sink);
       case T::History: break;
     }
+    if (cfg.rolling == RollingModel::Off && cfg.cohesion == CohesionModel::Off)
+      return pair_loop<LiggghtsKernel<kN, T::History, true>>(d, ii_begin, ii_end, sink);
     return pair_loop<LiggghtsKernel<kN, T::History>>(d, ii_begin, ii_end, sink);
   };
   switch (cfg.normal) {

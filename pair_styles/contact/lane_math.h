@@ -2,8 +2,8 @@
 // comparisons: R is double (one contact) or Lanes4 (four contacts, one per lane; GCC vector
 // extension). Every lane operation is the IEEE operation of the scalar code, so a lane's result is
 // bit-identical to the scalar one (issue 12: the neighbour loop evaluates touching pairs four at a
-// time). Branches become lane_select. The Lanes4 forms stay free of target attributes (sqrt through
-// two SSE2 halves) so that a law compiled for the baseline target can be inlined into the
+// time). Branches become lane_select. The Lanes4 forms stay free of target attributes (sqrt as
+// asm) so that a law compiled for the baseline target can be inlined into the
 // AVX2-compiled loop (pair_gran_loop.h), where GCC then emits 256-bit instructions. Every function
 // taking or returning Lanes4 by value must be always_inline: an out-of-line copy would be compiled
 // for the baseline target, whose calling convention for 256-bit vectors differs (garbage lanes).
@@ -27,13 +27,15 @@ inline double lane_pow(double x, double y) { return std::pow(x, y); }
 #pragma GCC diagnostic ignored "-Wpsabi"  // Lanes4 by value: only ever inlined into AVX2 code
 typedef double Lanes4 __attribute__((vector_size(32)));
 typedef decltype(Lanes4{} < Lanes4{}) LaneMask4;  // what a lane comparison gives: -1 (true) or 0
-typedef double Lanes2 __attribute__((vector_size(16)));
 
+// One 256-bit vsqrtpd (the correctly rounded root of each lane, as sqrtsd): written as asm because
+// the AVX builtin is not declared outside AVX code; Lanes4 code only ever runs inlined into the AVX2
+// loop. (Two SSE2 halves took six instructions per root.)
 [[gnu::always_inline]] inline Lanes4 lane_sqrt(Lanes4 x)
 {
-  const Lanes2 lo = __builtin_ia32_sqrtpd(__builtin_shufflevector(x, x, 0, 1));
-  const Lanes2 hi = __builtin_ia32_sqrtpd(__builtin_shufflevector(x, x, 2, 3));
-  return __builtin_shufflevector(lo, hi, 0, 1, 2, 3);
+  Lanes4 root;
+  asm("vsqrtpd %1, %0" : "=x"(root) : "xm"(x));
+  return root;
 }
 [[gnu::always_inline]] inline Lanes4 lane_fabs(Lanes4 x)
 {

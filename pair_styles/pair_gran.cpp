@@ -1,6 +1,7 @@
 #include "pair_gran.h"
 #include "rank_error.h"
 #include "pair_gran_contacts.h"
+#include "pair_gran_rows.h"
 
 #include "fix_contact_history.h"
 #include "fix_property_global.h"
@@ -21,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <mpi.h>
 
@@ -338,15 +340,13 @@ struct PairGran::ForceSink {
   int nlocal, newton_pair;
   void operator()(int i, int j, int, int, const gran::ContactResult &res) const
   {
-    for (int k = 0; k < 3; k++) {
-      f[3 * i + k] += res.F[k];
-      torque[3 * i + k] += res.Ti[k];
-    }
+    // rows at 64-bit offsets, two elements at a time (pair_gran_rows.h): with int indices 3 * i + k,
+    // GCC sign-extended each element's index anew; the sums are the same
+    gran::loop_detail::add_row3(f + 3 * std::ptrdiff_t(i), res.F);
+    gran::loop_detail::add_row3(torque + 3 * std::ptrdiff_t(i), res.Ti);
     if (newton_pair || j < nlocal) {
-      for (int k = 0; k < 3; k++) {
-        f[3 * j + k] -= res.F[k];
-        torque[3 * j + k] += res.Tj[k];
-      }
+      gran::loop_detail::sub_row3(f + 3 * std::ptrdiff_t(j), res.F);
+      gran::loop_detail::add_row3(torque + 3 * std::ptrdiff_t(j), res.Tj);
     }
     if (pair->evflag) {
       double **x = pair->atom->x;

@@ -5,6 +5,9 @@
 
 #include <array>
 #include <cmath>
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <emmintrin.h>
+#endif
 
 namespace dembridge::math {
 
@@ -58,6 +61,28 @@ template <class R> [[gnu::always_inline]] inline void cross3(const R *a, const R
   c[0] = a[1] * b[2] - a[2] * b[1];
   c[1] = a[2] * b[0] - a[0] * b[2];
   c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+// row[0..2] += v[0..2] and row[0..2] -= v[0..2] in place (a pair's force or torque into an atom's
+// row of LAMMPS's arrays): the first two elements as one SSE2 operation, which rounds each element
+// as the scalar one does; the scalar form cost GCC three instructions per element in the pair sinks.
+inline void add_into(double *row, const double *v)
+{
+#if defined(__x86_64__) && defined(__GNUC__)
+  _mm_storeu_pd(row, _mm_add_pd(_mm_loadu_pd(row), _mm_loadu_pd(v)));
+  row[2] += v[2];
+#else
+  for (int k = 0; k < 3; k++) row[k] += v[k];
+#endif
+}
+inline void subtract_from(double *row, const double *v)
+{
+#if defined(__x86_64__) && defined(__GNUC__)
+  _mm_storeu_pd(row, _mm_sub_pd(_mm_loadu_pd(row), _mm_loadu_pd(v)));
+  row[2] -= v[2];
+#else
+  for (int k = 0; k < 3; k++) row[k] -= v[k];
+#endif
 }
 
 }  // namespace dembridge::math

@@ -1,7 +1,7 @@
 #include "pair_gran.h"
 #include "rank_error.h"
 #include "pair_gran_contacts.h"
-#include "pair_gran_rows.h"
+#include "math/vec3.h"
 
 #include "fix_contact_history.h"
 #include "fix_property_global.h"
@@ -340,13 +340,13 @@ struct PairGran::ForceSink {
   int nlocal, newton_pair;
   void operator()(int i, int j, int, int, const gran::ContactResult &res) const
   {
-    // rows at 64-bit offsets, two elements at a time (pair_gran_rows.h): with int indices 3 * i + k,
+    // rows at 64-bit offsets, two elements at a time (math::add_into): with int indices 3 * i + k,
     // GCC sign-extended each element's index anew; the sums are the same
-    gran::loop_detail::add_row3(f + 3 * std::ptrdiff_t(i), res.F);
-    gran::loop_detail::add_row3(torque + 3 * std::ptrdiff_t(i), res.Ti);
+    math::add_into(f + 3 * std::ptrdiff_t(i), res.F);
+    math::add_into(torque + 3 * std::ptrdiff_t(i), res.Ti);
     if (newton_pair || j < nlocal) {
-      gran::loop_detail::sub_row3(f + 3 * std::ptrdiff_t(j), res.F);
-      gran::loop_detail::add_row3(torque + 3 * std::ptrdiff_t(j), res.Tj);
+      math::subtract_from(f + 3 * std::ptrdiff_t(j), res.F);
+      math::add_into(torque + 3 * std::ptrdiff_t(j), res.Tj);
     }
     if (pair->evflag) {
       double **x = pair->atom->x;

@@ -44,26 +44,4 @@ template <class V> [[gnu::always_inline, gnu::target("avx2")]] inline void load_
 }
 #endif
 
-// row[0..2] += v[0..2] and row[0..2] -= v[0..2] (a pair's force or torque into an atom's row): the
-// first two as one SSE2 operation, which rounds each element as the scalar one does (the sink
-// of pair_gran.cpp; the scalar form took three instructions per element)
-inline void add_row3(double *row, const double *v)
-{
-#if defined(__x86_64__) && defined(__GNUC__)
-  _mm_storeu_pd(row, _mm_add_pd(_mm_loadu_pd(row), _mm_loadu_pd(v)));
-  row[2] += v[2];
-#else
-  for (int k = 0; k < 3; k++) row[k] += v[k];
-#endif
-}
-inline void sub_row3(double *row, const double *v)
-{
-#if defined(__x86_64__) && defined(__GNUC__)
-  _mm_storeu_pd(row, _mm_sub_pd(_mm_loadu_pd(row), _mm_loadu_pd(v)));
-  row[2] -= v[2];
-#else
-  for (int k = 0; k < 3; k++) row[k] -= v[k];
-#endif
-}
-
 }  // namespace dembridge::gran::loop_detail

@@ -16,6 +16,8 @@
 // vectors are flat (f[3*k + c]).
 #pragma once
 
+#include "math/vec3.h"
+
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -55,20 +57,16 @@ class PairForceGather {
   void begin_block(int b, bool keep_all);
   void add(int b, int i, int j, const double F[3], const double Ti[3], const double Tj[3], double *f, double *torque)
   {
-    if (first_block_[i] == b)
-      for (int c = 0; c < 3; c++) {
-        f[3 * i + c] += F[c];
-        torque[3 * i + c] += Ti[c];
-      }
-    else
+    if (first_block_[i] == b) {
+      math::add_into(f + 3 * std::ptrdiff_t(i), F);
+      math::add_into(torque + 3 * std::ptrdiff_t(i), Ti);
+    } else
       defer(b, i, F, Ti, 1.0);
     if (j >= nreceive_) return;
-    if (first_block_[j] == b)
-      for (int c = 0; c < 3; c++) {
-        f[3 * j + c] -= F[c];
-        torque[3 * j + c] += Tj[c];
-      }
-    else
+    if (first_block_[j] == b) {
+      math::subtract_from(f + 3 * std::ptrdiff_t(j), F);
+      math::add_into(torque + 3 * std::ptrdiff_t(j), Tj);
+    } else
       defer(b, j, F, Tj, -1.0);  // f - F and f + (-F) are the same number
   }
   void keep(std::size_t slot, const double F[3])

@@ -38,32 +38,34 @@ std::string MbdynDeformDriver::bind(const std::vector<V3> &points, double tol)
 
 void MbdynDeformDriver::move_to(const std::vector<V3> &x, const std::vector<V3> &v)
 {
-  mesh::TriangleMesh &m = mesh_->mesh_for_motion();
-  m.place_nodes(mesh::nodes_from_points(corners_, x));
-  m.zero_velocity();
-  for (int t = 0; t < m.size(); ++t)
-    for (int k = 0; k < 3; ++k) m.add_node_velocity(t, k, v[corners_[t][k]]);
+  mesh_->mesh_for_motion().place_corners(corners_, x, v);
 }
 
 void MbdynDeformDriver::loads(double *out6) const
 {
   // every rank's contacts to every rank, then one canonical sum (the same on any rank count)
   const std::vector<double> &mine = mesh_->contacts();
+  static_assert(sizeof(mesh::MeshContact) == 7 * sizeof(double), "a contact is 7 doubles");
   int nprocs = 1;
   MPI_Comm_size(lmp_->world, &nprocs);
-  const int n = static_cast<int>(mine.size());
-  std::vector<int> counts(nprocs), displs(nprocs, 0);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, lmp_->world);
-  int total = 0;
-  for (int p = 0; p < nprocs; ++p) {
-    displs[p] = total;
-    total += counts[p];
-  }
-  std::vector<mesh::MeshContact> all(total / 7);
-  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, reinterpret_cast<double *>(all.data()), counts.data(), displs.data(),
-                 MPI_DOUBLE, lmp_->world);
   std::vector<double> p(3 * points_, 0.0);
-  mesh::distribute_contacts(mesh_->mesh(), corners_, std::move(all), p.data());
+  if (nprocs == 1) {  // this rank's contacts are all of them: sorted in place of a gathered copy
+    mesh::distribute_contacts(mesh_->mesh(), corners_, reinterpret_cast<const mesh::MeshContact *>(mine.data()),
+                              mine.size() / 7, p.data());
+  } else {
+    const int n = static_cast<int>(mine.size());
+    std::vector<int> counts(nprocs), displs(nprocs, 0);
+    MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, lmp_->world);
+    int total = 0;
+    for (int r = 0; r < nprocs; ++r) {
+      displs[r] = total;
+      total += counts[r];
+    }
+    std::vector<mesh::MeshContact> all(total / 7);
+    MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, reinterpret_cast<double *>(all.data()), counts.data(), displs.data(),
+                   MPI_DOUBLE, lmp_->world);
+    mesh::distribute_contacts(mesh_->mesh(), corners_, all.data(), all.size(), p.data());
+  }
   for (std::size_t j = 0; j < points_; ++j)
     for (int a = 0; a < 3; ++a) out6[6 * j + a] += p[3 * j + a];
 }

@@ -302,6 +302,26 @@ void TriangleMesh::place_nodes(const std::vector<TriangleNodes> &nodes)
   }
 }
 
+void TriangleMesh::place_corners(const std::vector<std::array<int, 3>> &corner, const std::vector<Vec3> &points,
+                                 const std::vector<Vec3> &velocities)
+{
+  if (corner.size() != node_.size())
+    throw MeshError("place_corners: expected " + std::to_string(node_.size()) + " triangles, got " +
+                    std::to_string(corner.size()));
+  ++version_;
+  moved_ = true;
+  vel_.resize(node_.size());
+  const Vec3 zero{0.0, 0.0, 0.0};
+  for (int t = 0; t < size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      node_[t][k] = points[corner[t][k]];
+      vel_[t][k] = add(zero, velocities[corner[t][k]]);
+    }
+    compute_geometry(t);
+    compute_center_rbound(t);
+  }
+}
+
 int TriangleMesh::attach_point(const Vec3 &p)
 {
   // after restore_state(), points attached later (movers created after the mesh) take their

@@ -102,6 +102,11 @@ class TriangleMesh {
   // replaced, all per-triangle geometry recomputed from them; topology and edge/corner flags kept.
   // Throws MeshError if the triangle count differs.
   void place_nodes(const std::vector<TriangleNodes> &nodes);
+  // The same as place_nodes with node (t, k) = points[corner[t][k]], and with velocity (t, k) =
+  // velocities[corner[t][k]] as zero_velocity then add_node_velocity give it (0.0 + v, bit for bit),
+  // written in place: a deforming mesh is placed at every exchange without copies of its nodes.
+  void place_corners(const std::vector<std::array<int, 3>> &corner, const std::vector<Vec3> &points,
+                     const std::vector<Vec3> &velocities);
 
   // Points that move with the mesh (rotation origins of stacked movers, stress reference point).
   int attach_point(const Vec3 &p);

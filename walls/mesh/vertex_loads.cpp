@@ -1,6 +1,7 @@
 #include "vertex_loads.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <numeric>
@@ -76,13 +77,42 @@ Vec3 barycentric(const TriangleMesh &m, int t, const Vec3 &p)
   return {w0, w1, 1.0 - w0 - w1};
 }
 
+namespace {
+// Word w of a contact's bytes as the integer whose order is memcmp's on those 8 bytes (byte 0 most
+// significant), so the canonical order is the bytewise one of the contacts' values.
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "memcmp order of a word is its byte-swapped value");
+static_assert(sizeof(MeshContact) == 7 * sizeof(std::uint64_t), "a contact is 7 words");
+inline std::uint64_t word(const MeshContact &c, int w)
+{
+  std::uint64_t v;
+  std::memcpy(&v, reinterpret_cast<const unsigned char *>(&c) + 8 * w, sizeof v);
+  return __builtin_bswap64(v);
+}
+}  // namespace
+
 void distribute_contacts(const TriangleMesh &m, const CornerPoints &map, std::vector<MeshContact> contacts,
                          double *out)
 {
-  std::sort(contacts.begin(), contacts.end(), [](const MeshContact &a, const MeshContact &b) {
-    return std::memcmp(&a, &b, sizeof(MeshContact)) < 0;
+  distribute_contacts(m, map, contacts.data(), contacts.size(), out);
+}
+
+void distribute_contacts(const TriangleMesh &m, const CornerPoints &map, const MeshContact *contacts, std::size_t n,
+                         double *out)
+{
+  // the order of memcmp over the contacts, sorted as (first word, index) keys: the first word (the
+  // triangle) nearly always decides, the rest only between contacts on one triangle
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = {word(contacts[i], 0), std::uint32_t(i)};
+  std::sort(order.begin(), order.end(), [contacts](const auto &a, const auto &b) {
+    if (a.first != b.first) return a.first < b.first;
+    for (int w = 1; w < 7; ++w) {
+      const std::uint64_t x = word(contacts[a.second], w), y = word(contacts[b.second], w);
+      if (x != y) return x < y;
+    }
+    return false;
   });
-  for (const MeshContact &c : contacts) {
+  for (const auto &o : order) {
+    const MeshContact &c = contacts[o.second];
     const int t = static_cast<int>(c.tri);
     const Vec3 w = barycentric(m, t, {c.cp[0], c.cp[1], c.cp[2]});
     for (int a = 0; a < 3; ++a) {

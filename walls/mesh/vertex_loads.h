@@ -34,5 +34,8 @@ struct MeshContact {
 // the result does not depend on how they were split among ranks.
 void distribute_contacts(const TriangleMesh &m, const CornerPoints &map, std::vector<MeshContact> contacts,
                          double *out);
+// The same, for n contacts in place (left as they are).
+void distribute_contacts(const TriangleMesh &m, const CornerPoints &map, const MeshContact *contacts, std::size_t n,
+                         double *out);
 
 }  // namespace dembridge::mesh

@@ -110,5 +110,49 @@ TEST(VertexLoads, ForcesSplitToThePointsKeepTheForceAndMoment)
   EXPECT_EQ(p, q);
 }
 
+// Contacts on one triangle that differ only past their first word, with forces whose sum depends on
+// the order (1e16 + 1 - 1e16): every arrival order gives the same loads, bit for bit.
+TEST(VertexLoads, TheOrderIsCanonicalBeyondTheTriangle)
+{
+  const TriangleMesh m = square();
+  const CornerPoints map = match_corners(m, kPoints, 1e-9);
+  std::vector<MeshContact> c{{0, {1e16, 0, 0}, {0.2, 0.3, 0}}, {0, {1, 0, 0}, {0.2, 0.3, 0}},
+                             {0, {-1e16, 0, 0}, {0.2, 0.3, 0}}, {0, {1, 0, 0}, {0.1, 0.3, 0}}};
+  std::vector<int> perm{0, 1, 2, 3};
+  std::vector<double> first;
+  do {
+    std::vector<MeshContact> r;
+    for (int k : perm) r.push_back(c[k]);
+    std::vector<double> q(12, 0.0);
+    distribute_contacts(m, map, r.data(), r.size(), q.data());
+    if (first.empty()) first = q;
+    EXPECT_EQ(q, first);
+  } while (std::next_permutation(perm.begin(), perm.end()));
+}
+
+// place_corners: the nodes and velocities of the corners' points, the geometry as place_nodes gives it.
+TEST(VertexLoads, PlaceCornersEqualsPlaceNodesAndVelocities)
+{
+  TriangleMesh a = square(), b = square();
+  const CornerPoints map = match_corners(a, kPoints, 1e-9);
+  const std::vector<Vec3> x{{1.1, 0.9, 0.2}, {0.0, 1.2, -0.1}, {0.05, 0.0, 0.0}, {1.0, 0.1, 0.3}};
+  const std::vector<Vec3> v{{-0.0, 1.0, 2.0}, {3.0, -0.0, 1e-300}, {0.5, 0.25, -1.0}, {7.0, 8.0, 9.0}};
+  a.place_nodes(nodes_from_points(map, x));
+  a.zero_velocity();
+  for (int t = 0; t < a.size(); ++t)
+    for (int k = 0; k < 3; ++k) a.add_node_velocity(t, k, v[map[t][k]]);
+  b.place_corners(map, x, v);
+  for (int t = 0; t < a.size(); ++t) {
+    EXPECT_EQ(a.nodes(t), b.nodes(t));
+    EXPECT_EQ(a.normal(t), b.normal(t));
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(a.node_velocity(t, k), b.node_velocity(t, k));
+      EXPECT_FALSE(std::signbit(b.node_velocity(t, k)[0]));  // 0.0 + (-0.0)
+      EXPECT_EQ(a.edge_norm(t, k), b.edge_norm(t, k));
+    }
+  }
+  EXPECT_THROW(b.place_corners(CornerPoints(1), x, v), MeshError);
+}
+
 }  // namespace
 }  // namespace dembridge::mesh::test

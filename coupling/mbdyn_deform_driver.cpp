@@ -48,11 +48,11 @@ void MbdynDeformDriver::loads(double *out6) const
   static_assert(sizeof(mesh::MeshContact) == 7 * sizeof(double), "a contact is 7 doubles");
   int nprocs = 1;
   MPI_Comm_size(lmp_->world, &nprocs);
-  std::vector<double> p(3 * points_, 0.0);
-  if (nprocs == 1) {  // this rank's contacts are all of them: sorted in place of a gathered copy
-    mesh::distribute_contacts(mesh_->mesh(), corners_, reinterpret_cast<const mesh::MeshContact *>(mine.data()),
-                              mine.size() / 7, p.data());
-  } else {
+  // on one rank this rank's contacts are all of them: sorted where they are, not in a gathered copy
+  const mesh::MeshContact *all = reinterpret_cast<const mesh::MeshContact *>(mine.data());
+  std::size_t nall = mine.size() / 7;
+  std::vector<mesh::MeshContact> gathered;
+  if (nprocs > 1) {
     const int n = static_cast<int>(mine.size());
     std::vector<int> counts(nprocs), displs(nprocs, 0);
     MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, lmp_->world);
@@ -61,11 +61,14 @@ void MbdynDeformDriver::loads(double *out6) const
       displs[r] = total;
       total += counts[r];
     }
-    std::vector<mesh::MeshContact> all(total / 7);
-    MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, reinterpret_cast<double *>(all.data()), counts.data(), displs.data(),
+    gathered.resize(total / 7);
+    MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, reinterpret_cast<double *>(gathered.data()), counts.data(), displs.data(),
                    MPI_DOUBLE, lmp_->world);
-    mesh::distribute_contacts(mesh_->mesh(), corners_, all.data(), all.size(), p.data());
+    all = gathered.data();
+    nall = gathered.size();
   }
+  std::vector<double> p(3 * points_, 0.0);
+  mesh::distribute_contacts(mesh_->mesh(), corners_, all, nall, p.data());
   for (std::size_t j = 0; j < points_; ++j)
     for (int a = 0; a < 3; ++a) out6[6 * j + a] += p[3 * j + a];
 }

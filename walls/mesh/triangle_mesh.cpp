@@ -293,9 +293,15 @@ void TriangleMesh::place_nodes(const std::vector<TriangleNodes> &nodes)
   if (nodes.size() != node_.size())
     throw MeshError("place_nodes: expected " + std::to_string(node_.size()) + " triangles, got " +
                     std::to_string(nodes.size()));
+  node_ = nodes;
+  placed();
+}
+
+// After place_nodes / place_corners: every triangle's geometry from its new nodes.
+void TriangleMesh::placed()
+{
   ++version_;
   moved_ = true;
-  node_ = nodes;
   for (int t = 0; t < size(); ++t) {
     compute_geometry(t);
     compute_center_rbound(t);
@@ -308,18 +314,14 @@ void TriangleMesh::place_corners(const std::vector<std::array<int, 3>> &corner, 
   if (corner.size() != node_.size())
     throw MeshError("place_corners: expected " + std::to_string(node_.size()) + " triangles, got " +
                     std::to_string(corner.size()));
-  ++version_;
-  moved_ = true;
   vel_.resize(node_.size());
   const Vec3 zero{0.0, 0.0, 0.0};
-  for (int t = 0; t < size(); ++t) {
+  for (int t = 0; t < size(); ++t)
     for (int k = 0; k < 3; ++k) {
       node_[t][k] = points[corner[t][k]];
       vel_[t][k] = add(zero, velocities[corner[t][k]]);
     }
-    compute_geometry(t);
-    compute_center_rbound(t);
-  }
+  placed();
 }
 
 int TriangleMesh::attach_point(const Vec3 &p)

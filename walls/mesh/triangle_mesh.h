@@ -148,6 +148,7 @@ class TriangleMesh {
   void validate();
   void compute_geometry(int t);
   void compute_center_rbound(int t);
+  void placed();  // geometry of every triangle from its nodes after place_nodes / place_corners
   void restore_attached(const std::vector<double> &b, std::size_t i, std::size_t n);
   void build_topology(const std::vector<std::array<int, 3>> &node_id);
 };

@@ -90,12 +90,6 @@ inline std::uint64_t word(const MeshContact &c, int w)
 }
 }  // namespace
 
-void distribute_contacts(const TriangleMesh &m, const CornerPoints &map, std::vector<MeshContact> contacts,
-                         double *out)
-{
-  distribute_contacts(m, map, contacts.data(), contacts.size(), out);
-}
-
 void distribute_contacts(const TriangleMesh &m, const CornerPoints &map, const MeshContact *contacts, std::size_t n,
                          double *out)
 {

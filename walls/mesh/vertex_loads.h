@@ -31,10 +31,7 @@ struct MeshContact {
 // Adds each contact's force to the points of its triangle's corners (out: 3 per point), weighted
 // by the contact point's barycentric weights (the last corner gets f minus the other two, so the
 // three parts sum to f). The contacts are taken in a canonical order (sorted by their values), so
-// the result does not depend on how they were split among ranks.
-void distribute_contacts(const TriangleMesh &m, const CornerPoints &map, std::vector<MeshContact> contacts,
-                         double *out);
-// The same, for n contacts in place (left as they are).
+// the result does not depend on how they were split among ranks; the n contacts are left as they are.
 void distribute_contacts(const TriangleMesh &m, const CornerPoints &map, const MeshContact *contacts, std::size_t n,
                          double *out);
 

@@ -84,7 +84,7 @@ TEST(VertexLoads, ForcesSplitToThePointsKeepTheForceAndMoment)
   std::vector<MeshContact> c{{0, {1, 2, 3}, {0.2, 0.3, 0}}, {1, {-0.5, 0.25, 2}, {0.9, 0.6, 0}},
                              {1, {0.125, 0, -1}, {1, 0.5, 0}}};
   std::vector<double> p(12, 0.0);
-  distribute_contacts(m, map, c, p.data());
+  distribute_contacts(m, map, c.data(), c.size(), p.data());
   // triangle 1's contact at weights (0.5, 0.2, 0.3): point 3 (the origin) gets half of it
   EXPECT_NEAR(p[3 * 2 + 0], 0.5, 1e-15);
   EXPECT_NEAR(p[3 * 2 + 2], 1.5, 1e-15);
@@ -106,7 +106,7 @@ TEST(VertexLoads, ForcesSplitToThePointsKeepTheForceAndMoment)
   // the contacts in another order (another rank split): the same sums, bit for bit
   std::vector<MeshContact> r{c[2], c[0], c[1]};
   std::vector<double> q(12, 0.0);
-  distribute_contacts(m, map, r, q.data());
+  distribute_contacts(m, map, r.data(), r.size(), q.data());
   EXPECT_EQ(p, q);
 }
 
